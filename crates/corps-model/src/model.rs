@@ -1,0 +1,148 @@
+//! The immutable robot model: kinematic tree, inertias, frames, limits, collision shapes.
+
+use crate::error::{ModelError, Result};
+use crate::frame::{Frame, FrameKind};
+use crate::geometry::CollisionGeometry;
+use crate::joint::Joint;
+use crate::spatial::Inertia;
+use nalgebra::{DVector, Vector3};
+
+/// A robot model. Built once (from URDF), then shared immutably by every part of a run;
+/// all mutable buffers live in [`crate::Data`].
+///
+/// Joints are numbered 0..n in Pinocchio's depth-first order; `None` as a parent is the world.
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// Robot name from the URDF.
+    pub name: String,
+    /// Moving joints, parents before children.
+    pub joints: Vec<Joint>,
+    /// Inertia of the body each joint moves (fixed children merged), in the joint frame.
+    pub inertias: Vec<Inertia>,
+    /// Operational frames (links, joints, fixed joints).
+    pub frames: Vec<Frame>,
+    /// Configuration size.
+    pub nq: usize,
+    /// Velocity size.
+    pub nv: usize,
+    /// Lower position limits (size nq).
+    pub lower_position_limit: DVector<f64>,
+    /// Upper position limits (size nq).
+    pub upper_position_limit: DVector<f64>,
+    /// Velocity limits (size nv).
+    pub velocity_limit: DVector<f64>,
+    /// Effort limits (size nv).
+    pub effort_limit: DVector<f64>,
+    /// Gravity vector in the world frame (m/s²).
+    pub gravity: Vector3<f64>,
+    /// Named reference configurations (from SRDF `group_state`).
+    pub reference_configurations: Vec<(String, DVector<f64>)>,
+    /// Collision shapes (for the simulator).
+    pub collisions: Vec<CollisionGeometry>,
+    /// Number of velocity entries in the subtree of each joint (itself included).
+    pub subtree_nv: Vec<usize>,
+    /// For each velocity index, the velocity index of its parent in the tree (for the
+    /// branch-induced sparse factorization of M); None at a root.
+    pub dof_parent: Vec<Option<usize>>,
+    /// For each velocity index, the joint it belongs to.
+    pub dof_joint: Vec<usize>,
+}
+
+impl Model {
+    /// Number of moving joints.
+    pub fn njoints(&self) -> usize {
+        self.joints.len()
+    }
+
+    /// Whether the root joint is a free-flyer.
+    pub fn has_free_flyer(&self) -> bool {
+        matches!(
+            self.joints.first().map(|j| j.kind),
+            Some(crate::JointKind::FreeFlyer)
+        )
+    }
+
+    /// Total mass of the robot.
+    pub fn total_mass(&self) -> f64 {
+        self.inertias.iter().map(|i| i.mass).sum()
+    }
+
+    /// Index of the joint named `name`.
+    pub fn joint_id(&self, name: &str) -> Result<usize> {
+        self.joints
+            .iter()
+            .position(|j| j.name == name)
+            .ok_or_else(|| ModelError::UnknownJoint(name.to_string()))
+    }
+
+    /// Index of the frame named `name`. A name that is both a link and a joint returns the
+    /// first frame registered with it (Pinocchio's rule).
+    pub fn frame_id(&self, name: &str) -> Result<usize> {
+        self.frames
+            .iter()
+            .position(|f| f.name == name)
+            .ok_or_else(|| ModelError::UnknownFrame(name.to_string()))
+    }
+
+    /// The frame with a name and a kind.
+    pub fn frame_id_of_kind(&self, name: &str, kind: FrameKind) -> Result<usize> {
+        self.frames
+            .iter()
+            .position(|f| f.name == name && f.kind == kind)
+            .ok_or_else(|| ModelError::UnknownFrame(name.to_string()))
+    }
+
+    /// The named reference configuration (e.g. TALOS `half_sitting`).
+    pub fn reference_configuration(&self, name: &str) -> Result<&DVector<f64>> {
+        self.reference_configurations
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, q)| q)
+            .ok_or_else(|| ModelError::UnknownConfiguration {
+                name: name.to_string(),
+                known: self
+                    .reference_configurations
+                    .iter()
+                    .map(|(n, _)| n.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })
+    }
+
+    /// Whether joint `ancestor` is `joint` or one of its ancestors.
+    pub fn supports(&self, ancestor: usize, joint: usize) -> bool {
+        let mut j = Some(joint);
+        while let Some(i) = j {
+            if i == ancestor {
+                return true;
+            }
+            j = self.joints[i].parent;
+        }
+        false
+    }
+
+    /// Checks a configuration vector: size nq, all finite.
+    pub fn check_configuration(&self, q: &[f64]) -> Result<()> {
+        check_vector("configuration q", q, self.nq)
+    }
+
+    /// Checks a velocity-sized vector (v, a, τ): size nv, all finite.
+    pub fn check_tangent(&self, what: &'static str, v: &[f64]) -> Result<()> {
+        check_vector(what, v, self.nv)
+    }
+}
+
+/// Size and finiteness check of a state vector.
+pub fn check_vector(what: &'static str, x: &[f64], expected: usize) -> Result<()> {
+    if x.len() != expected {
+        return Err(ModelError::Dimension {
+            what,
+            got: x.len(),
+            expected,
+        });
+    }
+    match x.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(ModelError::NonFinite { what, index }),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,9 @@
+//! Model loading: URDF (kinematics, inertias, limits, collision shapes) and SRDF (reference
+//! configurations).
+
+mod srdf;
+mod urdf;
+mod xml;
+
+pub use srdf::load_reference_configurations;
+pub use urdf::{build_model_from_urdf_file, build_model_from_urdf_str, RootJoint};

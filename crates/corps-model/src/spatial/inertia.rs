@@ -1,0 +1,108 @@
+//! Rigid-body spatial inertia in compact form (mass, centre of mass, rotational inertia).
+
+use super::{force::Force, motion::Motion, se3::Se3, skew};
+use nalgebra::{Matrix3, Matrix6, Vector3};
+use std::ops::{Add, AddAssign};
+
+/// Spatial inertia of a rigid body expressed in some frame: mass `m`, centre of mass `c`
+/// (the lever) and rotational inertia `I_c` about the centre of mass, in that frame's axes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Inertia {
+    /// Mass in kg.
+    pub mass: f64,
+    /// Centre of mass in the frame.
+    pub lever: Vector3<f64>,
+    /// Rotational inertia about the centre of mass (symmetric).
+    pub inertia: Matrix3<f64>,
+}
+
+impl Default for Inertia {
+    fn default() -> Self {
+        Self::zero()
+    }
+}
+
+impl Inertia {
+    /// A massless body.
+    pub fn zero() -> Self {
+        Self {
+            mass: 0.0,
+            lever: Vector3::zeros(),
+            inertia: Matrix3::zeros(),
+        }
+    }
+
+    /// Builds an inertia from mass, centre of mass and inertia about the centre of mass.
+    pub fn new(mass: f64, lever: Vector3<f64>, inertia: Matrix3<f64>) -> Self {
+        Self {
+            mass,
+            lever,
+            inertia,
+        }
+    }
+
+    /// Momentum `h = I v`: `f = m (v + ω × c)`, `n = I_c ω + c × f` (RBDA Eq. 2.63).
+    #[inline]
+    pub fn mul_motion(&self, v: &Motion) -> Force {
+        let f = (v.linear + v.angular.cross(&self.lever)) * self.mass;
+        Force::new(f, self.inertia * v.angular + self.lever.cross(&f))
+    }
+
+    /// The inertia expressed in frame a, given `aMb` and this inertia in b.
+    #[inline]
+    pub fn transformed(&self, m: &Se3) -> Inertia {
+        Inertia::new(
+            self.mass,
+            m.act_point(&self.lever),
+            m.rotation * self.inertia * m.rotation.transpose(),
+        )
+    }
+
+    /// The 6×6 matrix (about the frame origin): `[[m I, −m[c]×], [m[c]×, I_c − m[c]×[c]×]]`.
+    pub fn to_matrix(&self) -> Matrix6<f64> {
+        let mut y = Matrix6::zeros();
+        self.write_matrix(&mut y);
+        y
+    }
+
+    /// Writes the 6×6 matrix of [`Inertia::to_matrix`] into `y`.
+    #[inline]
+    pub fn write_matrix(&self, y: &mut Matrix6<f64>) {
+        let m = self.mass;
+        let mc = skew(&(self.lever * m));
+        let cx = skew(&self.lever);
+        y.fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&Matrix3::from_diagonal_element(m));
+        y.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-mc));
+        y.fixed_view_mut::<3, 3>(3, 0).copy_from(&mc);
+        y.fixed_view_mut::<3, 3>(3, 3)
+            .copy_from(&(self.inertia - mc * cx));
+    }
+
+    /// Kinetic energy of a body moving with twist `v`: `½ vᵀ I v`.
+    pub fn kinetic_energy(&self, v: &Motion) -> f64 {
+        0.5 * v.dot(&self.mul_motion(v))
+    }
+}
+
+impl Add for Inertia {
+    type Output = Inertia;
+    /// Combined inertia of two bodies expressed in the same frame (parallel-axis theorem).
+    fn add(self, o: Inertia) -> Inertia {
+        let m = self.mass + o.mass;
+        if m <= 0.0 {
+            return Inertia::new(0.0, Vector3::zeros(), self.inertia + o.inertia);
+        }
+        let c = (self.lever * self.mass + o.lever * o.mass) / m;
+        let d1 = skew(&(self.lever - c));
+        let d2 = skew(&(o.lever - c));
+        let i = self.inertia + o.inertia - d1 * d1 * self.mass - d2 * d2 * o.mass;
+        Inertia::new(m, c, i)
+    }
+}
+
+impl AddAssign for Inertia {
+    fn add_assign(&mut self, o: Inertia) {
+        *self = *self + o;
+    }
+}
