@@ -58,15 +58,25 @@ fn write_ff(m: &Se3, out: &mut [f64]) {
 /// `q ⊕ v`: the configuration reached from q by following the velocity v for unit time.
 /// The free-flyer moves by `exp6(v)` in its local frame.
 pub fn integrate(model: &Model, q: &[f64], v: &[f64]) -> Result<DVector<f64>> {
+    let mut out = DVector::zeros(model.nq);
+    integrate_to(model, q, v, out.as_mut_slice())?;
+    Ok(out)
+}
+
+/// [`integrate`] into a caller-owned buffer of size nq (no allocation).
+pub fn integrate_to(model: &Model, q: &[f64], v: &[f64], out: &mut [f64]) -> Result<()> {
     model.check_configuration(q)?;
     check_vector("velocity v", v, model.nv)?;
-    let mut out = DVector::from_column_slice(q);
+    if out.len() != model.nq {
+        return Err(crate::ModelError::Dimension { what: "output configuration", got: out.len(), expected: model.nq });
+    }
+    out.copy_from_slice(q);
     for j in &model.joints {
         let (iq, iv) = (j.idx_q, j.idx_v);
         match j.kind {
             JointKind::FreeFlyer => {
                 let m = ff_placement(&q[iq..]) * exp6(&Motion::from_slice(&v[iv..iv + 6]));
-                write_ff(&m, &mut out.as_mut_slice()[iq..iq + 7]);
+                write_ff(&m, &mut out[iq..iq + 7]);
             }
             JointKind::RevoluteUnbounded { .. } => {
                 let (s, c) = v[iv].sin_cos();
@@ -79,20 +89,29 @@ pub fn integrate(model: &Model, q: &[f64], v: &[f64]) -> Result<DVector<f64>> {
             _ => out[iq] += v[iv],
         }
     }
-    Ok(out)
+    Ok(())
 }
 
 /// `q1 ⊖ q0`: the velocity v with `integrate(q0, v) = q1`.
 pub fn difference(model: &Model, q0: &[f64], q1: &[f64]) -> Result<DVector<f64>> {
+    let mut v = DVector::zeros(model.nv);
+    difference_to(model, q0, q1, v.as_mut_slice())?;
+    Ok(v)
+}
+
+/// [`difference`] into a caller-owned buffer of size nv (no allocation).
+pub fn difference_to(model: &Model, q0: &[f64], q1: &[f64], v: &mut [f64]) -> Result<()> {
     model.check_configuration(q0)?;
     model.check_configuration(q1)?;
-    let mut v = DVector::zeros(model.nv);
+    if v.len() != model.nv {
+        return Err(crate::ModelError::Dimension { what: "output velocity", got: v.len(), expected: model.nv });
+    }
     for j in &model.joints {
         let (iq, iv) = (j.idx_q, j.idx_v);
         match j.kind {
             JointKind::FreeFlyer => {
                 let d = log6(&(ff_placement(&q0[iq..]).inverse() * ff_placement(&q1[iq..])));
-                v.as_mut_slice()[iv..iv + 6].copy_from_slice(d.to_vector().as_slice());
+                v[iv..iv + 6].copy_from_slice(d.to_vector().as_slice());
             }
             JointKind::RevoluteUnbounded { .. } => {
                 let (c0, s0, c1, s1) = (q0[iq], q0[iq + 1], q1[iq], q1[iq + 1]);
@@ -101,7 +120,7 @@ pub fn difference(model: &Model, q0: &[f64], q1: &[f64]) -> Result<DVector<f64>>
             _ => v[iv] = q1[iq] - q0[iq],
         }
     }
-    Ok(v)
+    Ok(())
 }
 
 /// The configuration a fraction `u` of the way from q0 to q1 along the group geodesic.

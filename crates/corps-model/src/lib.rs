@@ -56,7 +56,9 @@ pub use algorithms::jacobians::{
 pub use algorithms::kinematics::{forward_kinematics, forward_kinematics_placements};
 pub use algorithms::operational_space::frame_operational_space_inertia;
 pub use algorithms::rnea::{generalized_gravity, nonlinear_effects, rnea};
-pub use configuration::{difference, integrate, interpolate, neutral, normalize, random_configuration};
+pub use configuration::{
+    difference, difference_to, integrate, integrate_to, interpolate, neutral, normalize, random_configuration,
+};
 pub use data::Data;
 pub use error::{ModelError, Result};
 pub use frame::{Frame, FrameKind};

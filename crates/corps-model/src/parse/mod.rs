@@ -5,5 +5,5 @@ mod srdf;
 mod urdf;
 mod xml;
 
-pub use srdf::load_reference_configurations;
+pub use srdf::{load_reference_configurations, load_reference_configurations_str};
 pub use urdf::{build_model_from_urdf_file, build_model_from_urdf_str, RootJoint};

@@ -383,10 +383,13 @@ impl<'a> TreeBuilder<'a> {
             RootJoint::FreeFlyer => {
                 let id = self.add_joint("root_joint", JointKind::FreeFlyer, None, Se3::identity());
                 for _ in 0..3 {
-                    self.push_limits(f64::NEG_INFINITY, f64::INFINITY, f64::INFINITY, f64::INFINITY, true);
+                    self.push_q_limits(f64::NEG_INFINITY, f64::INFINITY);
                 }
                 for _ in 0..4 {
-                    self.push_limits(-1.0, 1.0, f64::INFINITY, f64::INFINITY, false);
+                    self.push_q_limits(-1.0, 1.0);
+                }
+                for _ in 0..6 {
+                    self.push_v_limits(f64::INFINITY, f64::INFINITY);
                 }
                 Some(id)
             }
@@ -414,11 +417,12 @@ impl<'a> TreeBuilder<'a> {
                     let id = self.add_joint(&j.name, kind, parent, placement);
                     match kind {
                         JointKind::RevoluteUnbounded { .. } => {
-                            self.push_limits(-1.0, 1.0, j.velocity, j.effort, true);
-                            self.push_limits(-1.0, 1.0, 0.0, 0.0, false);
+                            self.push_q_limits(-1.0, 1.0);
+                            self.push_q_limits(-1.0, 1.0);
                         }
-                        _ => self.push_limits(j.lower, j.upper, j.velocity, j.effort, true),
+                        _ => self.push_q_limits(j.lower, j.upper),
                     }
+                    self.push_v_limits(j.velocity, j.effort);
                     self.attach_link(&j.child, Some(id), Se3::identity());
                     push_children(&mut stack, &j.child, Some(id), Se3::identity());
                 }
@@ -444,14 +448,16 @@ impl<'a> TreeBuilder<'a> {
         Ok(self.finish(name))
     }
 
-    /// Appends one configuration entry's limits, and one velocity entry's when `with_v`.
-    fn push_limits(&mut self, lower: f64, upper: f64, velocity: f64, effort: f64, with_v: bool) {
+    /// Appends the position limits of one configuration entry.
+    fn push_q_limits(&mut self, lower: f64, upper: f64) {
         self.limits.lower.push(lower);
         self.limits.upper.push(upper);
-        if with_v {
-            self.limits.velocity.push(velocity);
-            self.limits.effort.push(effort);
-        }
+    }
+
+    /// Appends the velocity and effort limits of one velocity entry.
+    fn push_v_limits(&mut self, velocity: f64, effort: f64) {
+        self.limits.velocity.push(velocity);
+        self.limits.effort.push(effort);
     }
 
     fn finish(self, name: String) -> Model {
