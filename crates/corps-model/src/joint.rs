@@ -64,6 +64,33 @@ impl JointKind {
         }
     }
 
+    /// `placement * M_J(q)`, with a fast path for rotations about a signed coordinate axis
+    /// (only two columns of the rotation mix, instead of a full 3 × 3 product).
+    #[inline]
+    pub fn placed_transform(&self, placement: &Se3, q: &[f64]) -> Se3 {
+        let (axis, c, s) = match self {
+            JointKind::Revolute { axis } => {
+                let (s, c) = q[0].sin_cos();
+                (axis, c, s)
+            }
+            JointKind::RevoluteUnbounded { axis } => (axis, q[0], q[1]),
+            _ => return *placement * self.transform(q),
+        };
+        match unit_axis(axis) {
+            Some((k, sign)) => {
+                let r = &placement.rotation;
+                let s = s * sign;
+                let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+                let (ci, cj) = (r.column(i), r.column(j));
+                let mut out = *r;
+                out.set_column(i, &(ci * c + cj * s));
+                out.set_column(j, &(cj * c - ci * s));
+                Se3::new(out, placement.translation)
+            }
+            None => *placement * Se3::new(rotation::axis_angle_cs(axis, c, s), Vector3::zeros()),
+        }
+    }
+
     /// The motion subspace column of a 1-DoF joint (None for the free-flyer, whose S = I).
     #[inline]
     pub fn axis_motion(&self) -> Option<Motion> {
@@ -84,6 +111,18 @@ impl JointKind {
             None => Motion::from_slice(v),
         }
     }
+}
+
+/// `Some((k, ±1))` when `axis` is ± the k-th coordinate axis.
+#[inline]
+pub(crate) fn unit_axis(axis: &Vector3<f64>) -> Option<(usize, f64)> {
+    for k in 0..3 {
+        let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+        if axis[i] == 0.0 && axis[j] == 0.0 && axis[k].abs() == 1.0 {
+            return Some((k, axis[k]));
+        }
+    }
+    None
 }
 
 /// A joint of the kinematic tree.

@@ -7,6 +7,7 @@
 //! p^a = p^A + I^a c + U D⁻¹ u; forward q̈ = D⁻¹ (u − Uᵀ a_λ'), a = a_λ + c + S q̈.
 
 use super::jacobians::write_joint_columns;
+use crate::spatial::kernels::{m6_add_assign, m6_rank1_sub, m6v};
 use crate::data::{col_motion, Data};
 use crate::error::Result;
 use crate::joint::JointKind;
@@ -32,7 +33,7 @@ pub fn aba<'d>(
 pub(crate) fn aba_pass(model: &Model, data: &mut Data, q: &[f64], v: &[f64], tau: &[f64]) {
     // Forward: placements, world twists, bias accelerations and forces, body inertias.
     for (i, j) in model.joints.iter().enumerate() {
-        let li = j.placement * j.kind.transform(&q[j.idx_q..]);
+        let li = j.kind.placed_transform(&j.placement, &q[j.idx_q..]);
         data.o_m_i[i] = match j.parent {
             Some(p) => data.o_m_i[p] * li,
             None => li,
@@ -61,7 +62,7 @@ pub(crate) fn aba_pass(model: &Model, data: &mut Data, q: &[f64], v: &[f64], tau
         let k = j.idx_v;
         let s = col_motion(&data.j, k).to_vector();
         let ia = data.bcrb[i];
-        let u_vec = ia * s;
+        let u_vec = m6v(&ia, &s);
         let d_inv = 1.0 / s.dot(&u_vec);
         let u = tau[k] - s.dot(&data.pa[i].to_vector());
         data.d_inv[k] = d_inv;
@@ -72,11 +73,12 @@ pub(crate) fn aba_pass(model: &Model, data: &mut Data, q: &[f64], v: &[f64], tau
             &u_vec.fixed_rows::<3>(0).into(),
             &u_vec.fixed_rows::<3>(3).into(),
         );
-        let ia_art = ia - u_vec * u_vec.transpose() * d_inv;
+        let mut ia_art = ia;
+        m6_rank1_sub(&mut ia_art, &u_vec, d_inv);
         let c = data.oa[i].to_vector();
-        let pa_art = data.pa[i].to_vector() + ia_art * c + u_vec * (u * d_inv);
+        let pa_art = data.pa[i].to_vector() + m6v(&ia_art, &c) + u_vec * (u * d_inv);
         if let Some(p) = j.parent {
-            data.bcrb[p] += ia_art;
+            m6_add_assign(&mut data.bcrb[p], &ia_art);
             data.pa[p] += Force::from_vector(&pa_art);
         }
     }

@@ -3,6 +3,7 @@
 
 use super::crba::composite_pass;
 use super::kinematics::motion_pass;
+use crate::spatial::kernels::m6v;
 use crate::data::{col_motion, set_col, Data};
 use crate::error::Result;
 use crate::model::{check_vector, Model};
@@ -35,7 +36,7 @@ pub(crate) fn fill_from_composites(model: &Model, data: &mut Data) {
             let s = col_motion(&data.j, k);
             let jc = (s.linear * m_sub + s.angular.cross(&mc_sub)) * inv_mass;
             data.jcom.column_mut(k).copy_from(&jc);
-            let h = Force::from_vector(&(y * s.to_vector())).shifted_to(&com);
+            let h = Force::from_vector(&m6v(&y, &s.to_vector())).shifted_to(&com);
             set_col(&mut data.ag, k, &h.linear, &h.angular);
         }
     }

@@ -5,6 +5,7 @@
 
 use super::jacobians::write_joint_columns;
 use super::kinematics::placements;
+use crate::spatial::kernels::{m6_add_assign, m6v};
 use crate::data::{col_force, col_motion, set_col, Data};
 use crate::error::Result;
 use crate::model::{check_vector, Model};
@@ -64,7 +65,7 @@ pub fn coriolis_matrix<'d>(
         let (y, b) = (data.ycrb[i], data.bcrb[i]);
         let (start, nvi) = (j.idx_v, j.nv());
         for k in start..start + nvi {
-            let f = y * col_motion(&data.dj, k).to_vector() + b * col_motion(&data.j, k).to_vector();
+            let f = m6v(&y, &col_motion(&data.dj, k).to_vector()) + m6v(&b, &col_motion(&data.j, k).to_vector());
             set_col(&mut data.f_cols, k, &f.fixed_rows::<3>(0).into(), &f.fixed_rows::<3>(3).into());
         }
         for r in start..start + nvi {
@@ -74,7 +75,7 @@ pub fn coriolis_matrix<'d>(
                 data.c[(r, c)] = jr.dot(&col_force(&data.f_cols, c));
             }
             // Row r, columns of the strict ancestors.
-            let g1 = y * jr.to_vector();
+            let g1 = m6v(&y, &jr.to_vector());
             let g2 = b.transpose() * jr.to_vector();
             let mut anc = model.dof_parent[start];
             while let Some(c) = anc {
@@ -85,8 +86,8 @@ pub fn coriolis_matrix<'d>(
             }
         }
         if let Some(p) = j.parent {
-            data.ycrb[p] += y;
-            data.bcrb[p] += b;
+            m6_add_assign(&mut data.ycrb[p], &y);
+            m6_add_assign(&mut data.bcrb[p], &b);
         }
     }
     Ok(&data.c)

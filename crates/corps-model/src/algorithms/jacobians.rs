@@ -4,7 +4,7 @@
 use super::kinematics::placements;
 use crate::data::{col_motion, set_col, Data};
 use crate::error::{ModelError, Result};
-use crate::joint::Joint;
+use crate::joint::{unit_axis, Joint, JointKind};
 use crate::model::Model;
 use crate::spatial::{Motion, Se3};
 use nalgebra::Matrix6xX;
@@ -24,9 +24,16 @@ pub enum ReferenceFrame {
 /// World twist of dof `k`'s unit motion, given the joint's world placement.
 #[inline]
 pub(crate) fn world_subspace(j: &Joint, o_m_i: &Se3, k: usize) -> Motion {
-    match j.kind.axis_motion() {
-        Some(s) => o_m_i.act_motion(&s),
-        None => {
+    match j.kind {
+        JointKind::Revolute { axis } | JointKind::RevoluteUnbounded { axis } => {
+            let w = match unit_axis(&axis) {
+                Some((c, sign)) => o_m_i.rotation.column(c) * sign,
+                None => o_m_i.rotation * axis,
+            };
+            Motion::new(o_m_i.translation.cross(&w), w)
+        }
+        JointKind::Prismatic { axis } => Motion::new(o_m_i.rotation * axis, nalgebra::Vector3::zeros()),
+        JointKind::FreeFlyer => {
             let mut e = [0.0; 6];
             e[k] = 1.0;
             o_m_i.act_motion(&Motion::from_slice(&e))

@@ -32,7 +32,7 @@ pub fn forward_kinematics(
 #[inline]
 pub(crate) fn placements(model: &Model, data: &mut Data, q: &[f64]) {
     for (i, j) in model.joints.iter().enumerate() {
-        let li = j.placement * j.kind.transform(&q[j.idx_q..]);
+        let li = j.kind.placed_transform(&j.placement, &q[j.idx_q..]);
         data.o_m_i[i] = match j.parent {
             Some(p) => data.o_m_i[p] * li,
             None => li,
@@ -51,7 +51,7 @@ pub(crate) fn motion_pass(
     a: Option<&[f64]>,
 ) {
     for (i, j) in model.joints.iter().enumerate() {
-        let li = j.placement * j.kind.transform(&q[j.idx_q..]);
+        let li = j.kind.placed_transform(&j.placement, &q[j.idx_q..]);
         let vj = v.map_or(Motion::zero(), |v| j.kind.motion(&v[j.idx_v..]));
         let aj = a.map_or(Motion::zero(), |a| j.kind.motion(&a[j.idx_v..]));
         let (vi, ai, omi) = match j.parent {

@@ -62,7 +62,7 @@ pub(crate) fn rnea_pass(
         Motion::zero()
     };
     for (i, j) in model.joints.iter().enumerate() {
-        let li = j.placement * j.kind.transform(&q[j.idx_q..]);
+        let li = j.kind.placed_transform(&j.placement, &q[j.idx_q..]);
         let vj = v.map_or(Motion::zero(), |v| j.kind.motion(&v[j.idx_v..]));
         let aj = a.map_or(Motion::zero(), |a| j.kind.motion(&a[j.idx_v..]));
         let (vi, ap) = match j.parent {

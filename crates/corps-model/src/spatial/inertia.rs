@@ -1,5 +1,6 @@
 //! Rigid-body spatial inertia in compact form (mass, centre of mass, rotational inertia).
 
+use super::kernels::{m3v, rotate_symmetric};
 use super::{force::Force, motion::Motion, se3::Se3, skew};
 use nalgebra::{Matrix3, Matrix6, Vector3};
 use std::ops::{Add, AddAssign};
@@ -45,7 +46,7 @@ impl Inertia {
     #[inline]
     pub fn mul_motion(&self, v: &Motion) -> Force {
         let f = (v.linear + v.angular.cross(&self.lever)) * self.mass;
-        Force::new(f, self.inertia * v.angular + self.lever.cross(&f))
+        Force::new(f, m3v(&self.inertia, &v.angular) + self.lever.cross(&f))
     }
 
     /// The inertia expressed in frame a, given `aMb` and this inertia in b.
@@ -54,7 +55,7 @@ impl Inertia {
         Inertia::new(
             self.mass,
             m.act_point(&self.lever),
-            m.rotation * self.inertia * m.rotation.transpose(),
+            rotate_symmetric(&m.rotation, &self.inertia),
         )
     }
 
@@ -69,14 +70,24 @@ impl Inertia {
     #[inline]
     pub fn write_matrix(&self, y: &mut Matrix6<f64>) {
         let m = self.mass;
-        let mc = skew(&(self.lever * m));
-        let cx = skew(&self.lever);
-        y.fixed_view_mut::<3, 3>(0, 0)
-            .copy_from(&Matrix3::from_diagonal_element(m));
-        y.fixed_view_mut::<3, 3>(0, 3).copy_from(&(-mc));
-        y.fixed_view_mut::<3, 3>(3, 0).copy_from(&mc);
-        y.fixed_view_mut::<3, 3>(3, 3)
-            .copy_from(&(self.inertia - mc * cx));
+        let c = self.lever;
+        let h = c * m;
+        // I_O = I_c − m [c]×[c]× = I_c + m (|c|² 1 − c cᵀ).
+        let i = &self.inertia;
+        let c2 = c.norm_squared();
+        let io = |r: usize, s: usize| {
+            let d = if r == s { c2 } else { 0.0 };
+            i[(r, s)] + m * (d - c[r] * c[s])
+        };
+        let cols = &mut y.data.0;
+        *cols = [
+            [m, 0.0, 0.0, 0.0, h.z, -h.y],
+            [0.0, m, 0.0, -h.z, 0.0, h.x],
+            [0.0, 0.0, m, h.y, -h.x, 0.0],
+            [0.0, -h.z, h.y, io(0, 0), io(1, 0), io(2, 0)],
+            [h.z, 0.0, -h.x, io(0, 1), io(1, 1), io(2, 1)],
+            [-h.y, h.x, 0.0, io(0, 2), io(1, 2), io(2, 2)],
+        ];
     }
 
     /// Kinetic energy of a body moving with twist `v`: `½ vᵀ I v`.

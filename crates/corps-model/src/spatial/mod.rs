@@ -3,6 +3,7 @@
 
 mod force;
 mod inertia;
+pub mod kernels;
 mod motion;
 pub mod rotation;
 mod se3;

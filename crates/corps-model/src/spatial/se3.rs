@@ -1,5 +1,6 @@
 //! Rigid transforms `aMb = (R, p)`: maps coordinates in frame b to frame a (x_a = R x_b + p).
 
+use super::kernels::{m3m3, m3tv, m3v};
 use super::{force::Force, motion::Motion, skew};
 use nalgebra::{Matrix3, Matrix6, Vector3};
 use std::ops::Mul;
@@ -40,50 +41,47 @@ impl Se3 {
     #[inline]
     pub fn inverse(&self) -> Se3 {
         let rt = self.rotation.transpose();
-        Se3::new(rt, -(rt * self.translation))
+        Se3::new(rt, -m3v(&rt, &self.translation))
     }
 
     /// Maps a point from b to a.
     #[inline]
     pub fn act_point(&self, x: &Vector3<f64>) -> Vector3<f64> {
-        self.rotation * x + self.translation
+        m3v(&self.rotation, x) + self.translation
     }
 
     /// Maps a point from a to b.
     #[inline]
     pub fn act_inv_point(&self, x: &Vector3<f64>) -> Vector3<f64> {
-        self.rotation.tr_mul(&(x - self.translation))
+        m3tv(&self.rotation, &(x - self.translation))
     }
 
     /// Motion from b to a: `ω_a = R ω`, `v_a = R v + p × ω_a`.
     #[inline]
     pub fn act_motion(&self, m: &Motion) -> Motion {
-        let w = self.rotation * m.angular;
-        Motion::new(self.rotation * m.linear + self.translation.cross(&w), w)
+        let w = m3v(&self.rotation, &m.angular);
+        Motion::new(m3v(&self.rotation, &m.linear) + self.translation.cross(&w), w)
     }
 
     /// Motion from a to b (the inverse action).
     #[inline]
     pub fn act_inv_motion(&self, m: &Motion) -> Motion {
         let lin = m.linear - self.translation.cross(&m.angular);
-        Motion::new(
-            self.rotation.tr_mul(&lin),
-            self.rotation.tr_mul(&m.angular),
-        )
+        Motion::new(m3tv(&self.rotation, &lin), m3tv(&self.rotation, &m.angular))
     }
 
     /// Force from b to a: `f_a = R f`, `n_a = R n + p × f_a`.
     #[inline]
     pub fn act_force(&self, f: &Force) -> Force {
-        let fl = self.rotation * f.linear;
-        Force::new(fl, self.rotation * f.angular + self.translation.cross(&fl))
+        let fl = m3v(&self.rotation, &f.linear);
+        Force::new(fl, m3v(&self.rotation, &f.angular) + self.translation.cross(&fl))
     }
 
     /// Force from a to b (the inverse action).
     #[inline]
     pub fn act_inv_force(&self, f: &Force) -> Force {
         let n = f.angular - self.translation.cross(&f.linear);
-        Force::new(self.rotation.tr_mul(&f.linear), self.rotation.tr_mul(&n))
+        Force::new(m3tv(&self.rotation, &f.linear), m3tv(&self.rotation, &n))
     }
 
     /// The 6×6 motion action matrix `aXb` ([linear; angular] ordering).
@@ -109,8 +107,8 @@ impl Mul for Se3 {
     #[inline]
     fn mul(self, o: Se3) -> Se3 {
         Se3::new(
-            self.rotation * o.rotation,
-            self.rotation * o.translation + self.translation,
+            m3m3(&self.rotation, &o.rotation),
+            m3v(&self.rotation, &o.translation) + self.translation,
         )
     }
 }
@@ -120,8 +118,8 @@ impl Mul<&Se3> for &Se3 {
     #[inline]
     fn mul(self, o: &Se3) -> Se3 {
         Se3::new(
-            self.rotation * o.rotation,
-            self.rotation * o.translation + self.translation,
+            m3m3(&self.rotation, &o.rotation),
+            m3v(&self.rotation, &o.translation) + self.translation,
         )
     }
 }
