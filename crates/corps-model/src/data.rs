@@ -2,7 +2,7 @@
 //! no algorithm allocates on the heap.
 
 use crate::model::Model;
-use crate::spatial::{Force, Motion, Se3};
+use crate::spatial::{Force, Motion, OriginInertia, Se3};
 use nalgebra::{DMatrix, DVector, Matrix3xX, Matrix6, Matrix6xX, Vector3};
 
 /// Workspace and results of the rigid-body algorithms for one [`Model`].
@@ -48,12 +48,16 @@ pub struct Data {
     pub j: Matrix6xX<f64>,
     /// Time derivative of `j`.
     pub dj: Matrix6xX<f64>,
-    /// Spatial inertia of each body in the world frame, then composite inertia (CRBA).
+    /// Spatial inertia matrices of the bodies in the world frame (Coriolis matrix algorithm).
     pub ycrb: Vec<Matrix6<f64>>,
+    /// Composite rigid-body inertias in the world frame (CRBA, centroidal map).
+    pub composite: Vec<OriginInertia>,
     /// Composite Coriolis-like matrices (Coriolis matrix algorithm) / articulated inertias (ABA).
     pub bcrb: Vec<Matrix6<f64>>,
     /// Per-dof spatial forces (CRBA `Ycrb S`, ABA `U`, Coriolis `Ycrb J̇ + Bcrb J`).
     pub f_cols: Matrix6xX<f64>,
+    /// CRBA: `Ycrb S` per dof, transposed (nv × 6) so that each component is contiguous.
+    pub f_t: DMatrix<f64>,
     /// ABA bias forces, world frame.
     pub pa: Vec<Force>,
     /// ABA: 1/D per dof.
@@ -110,7 +114,9 @@ impl Data {
             dj: Matrix6xX::zeros(nv),
             ycrb: vec![Matrix6::zeros(); n],
             bcrb: vec![Matrix6::zeros(); n],
+            composite: vec![OriginInertia::default(); n],
             f_cols: Matrix6xX::zeros(nv),
+            f_t: DMatrix::zeros(nv, 6),
             pa: vec![Force::zero(); n],
             d_inv: DVector::zeros(nv),
             u: DVector::zeros(nv),

@@ -3,18 +3,11 @@
 
 use super::crba::composite_pass;
 use super::kinematics::motion_pass;
-use crate::spatial::kernels::m6v;
-use crate::data::{col_motion, set_col, Data};
+use crate::data::{col_force, set_col, Data};
 use crate::error::Result;
 use crate::model::{check_vector, Model};
 use crate::spatial::{Force, Motion};
-use nalgebra::{Matrix3xX, Matrix6, Matrix6xX, Vector3};
-
-/// Mass-weighted centre of mass `m c` held in a world composite inertia matrix.
-#[inline]
-fn mass_times_com(y: &Matrix6<f64>) -> Vector3<f64> {
-    Vector3::new(y[(5, 1)], y[(3, 2)], y[(4, 0)])
-}
+use nalgebra::{Matrix3xX, Matrix6xX, Vector3};
 
 /// CoM, its Jacobian and A_G from the composite inertias and Jacobians of a composite pass.
 pub(crate) fn fill_from_composites(model: &Model, data: &mut Data) {
@@ -22,23 +15,20 @@ pub(crate) fn fill_from_composites(model: &Model, data: &mut Data) {
     let mut mc = Vector3::zeros();
     for (i, j) in model.joints.iter().enumerate() {
         if j.parent.is_none() {
-            mass += data.ycrb[i][(0, 0)];
-            mc += mass_times_com(&data.ycrb[i]);
+            mass += data.composite[i].mass;
+            mc += data.composite[i].first_moment;
         }
     }
     let com = if mass > 0.0 { mc / mass } else { Vector3::zeros() };
     data.com = com;
     let inv_mass = if mass > 0.0 { 1.0 / mass } else { 0.0 };
-    for (i, j) in model.joints.iter().enumerate() {
-        let y = data.ycrb[i];
-        let (m_sub, mc_sub) = (y[(0, 0)], mass_times_com(&y));
-        for k in j.idx_v..j.idx_v + j.nv() {
-            let s = col_motion(&data.j, k);
-            let jc = (s.linear * m_sub + s.angular.cross(&mc_sub)) * inv_mass;
-            data.jcom.column_mut(k).copy_from(&jc);
-            let h = Force::from_vector(&m6v(&y, &s.to_vector())).shifted_to(&com);
-            set_col(&mut data.ag, k, &h.linear, &h.angular);
-        }
+    // The composite pass left F_k = Yc S_k (about the world origin) per dof: its linear part
+    // is m_sub ċ-direction, so Jcom_k = F_k.linear / m and A_G,k = F_k moved to the CoM.
+    for k in 0..model.nv {
+        let h = col_force(&data.f_cols, k);
+        data.jcom.column_mut(k).copy_from(&(h.linear * inv_mass));
+        let hg = h.shifted_to(&com);
+        set_col(&mut data.ag, k, &hg.linear, &hg.angular);
     }
 }
 

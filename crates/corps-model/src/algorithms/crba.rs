@@ -1,17 +1,17 @@
 //! Composite rigid-body algorithm: the joint-space inertia matrix M(q) (RBDA Table 6.2), in
-//! the world frame as Pinocchio 3 does, so composite inertias add without transforms:
+//! the world frame as Pinocchio 3 does, so composite inertias add without transforms
+//! (kept in origin form, [`crate::spatial::OriginInertia`]):
 //! `M[i, subtree(i)] = J_iᵀ (Yc_j J_j)` for every j in the subtree of i.
 
 use super::jacobians::write_joint_columns;
 use super::kinematics::placements;
-use crate::spatial::kernels::{m6_add_assign, m6v};
 use crate::data::{col_motion, set_col, Data};
 use crate::error::Result;
 use crate::model::Model;
 use nalgebra::DMatrix;
 
 /// M(q), full and symmetric, written to and returned from `data.m`. Also leaves the world
-/// Jacobians in `data.j` and the composite inertias in `data.ycrb`.
+/// Jacobians in `data.j` and the composite inertias in `data.composite`.
 pub fn crba<'d>(model: &Model, data: &'d mut Data, q: &[f64]) -> Result<&'d DMatrix<f64>> {
     model.check_configuration(q)?;
     composite_pass(model, data, q, true);
@@ -24,44 +24,46 @@ pub(crate) fn composite_pass(model: &Model, data: &mut Data, q: &[f64], with_m: 
     placements(model, data, q);
     for i in 0..model.njoints() {
         write_joint_columns(model, data, i);
-        let oi = model.inertias[i].transformed(&data.o_m_i[i]);
-        oi.write_matrix(&mut data.ycrb[i]);
+        data.composite[i] = model.inertias[i].transformed(&data.o_m_i[i]).to_origin_form();
     }
+    let nv = model.nv;
     for (i, j) in model.joints.iter().enumerate().rev() {
-        let y = data.ycrb[i];
+        let y = data.composite[i];
         for k in j.idx_v..j.idx_v + j.nv() {
-            let s = col_motion(&data.j, k);
-            let f = m6v(&y, &s.to_vector());
-            set_col(&mut data.f_cols, k, &f.fixed_rows::<3>(0).into(), &f.fixed_rows::<3>(3).into());
+            let f = y.mul_motion(&col_motion(&data.j, k));
+            set_col(&mut data.f_cols, k, &f.linear, &f.angular);
+            if with_m {
+                let ft = &mut data.f_t.as_mut_slice()[k..];
+                let (l, a) = (&f.linear, &f.angular);
+                (ft[0], ft[nv], ft[2 * nv]) = (l.x, l.y, l.z);
+                (ft[3 * nv], ft[4 * nv], ft[5 * nv]) = (a.x, a.y, a.z);
+            }
         }
         if with_m {
-            // Lower triangle, column by column (contiguous): M[c, r] = F_cᵀ J_r.
-            let (start, len, nv) = (j.idx_v, model.subtree_nv[i], model.nv);
+            // Lower triangle, column by column: M[c, r] = Σ_k J_r[k] F_c[k] for c in the
+            // subtree, over the transposed forces (contiguous in c).
+            let (start, end) = (j.idx_v, j.idx_v + model.subtree_nv[i]);
             let jc = data.j.as_slice();
-            let fc = &data.f_cols.as_slice()[..6 * (start + len)];
+            let ft = data.f_t.as_slice();
             let m = data.m.as_mut_slice();
             for r in start..start + j.nv() {
-                let jr = &jc[6 * r..6 * r + 6];
-                let column = &mut m[r * nv + r..r * nv + start + len];
-                for (out, f) in column.iter_mut().zip(fc[6 * r..].chunks_exact(6)) {
-                    *out = jr[0] * f[0] + jr[1] * f[1] + jr[2] * f[2] + jr[3] * f[3] + jr[4] * f[4] + jr[5] * f[5];
+                let a = &jc[6 * r..6 * r + 6];
+                let len = end - r;
+                let column = &mut m[r * nv + r..r * nv + end];
+                let f: [&[f64]; 6] = std::array::from_fn(|k| &ft[k * nv + r..k * nv + end]);
+                let (f0, f1, f2, f3, f4, f5) = (&f[0][..len], &f[1][..len], &f[2][..len], &f[3][..len], &f[4][..len], &f[5][..len]);
+                for (c, o) in column[..len].iter_mut().enumerate() {
+                    *o = a[0] * f0[c] + a[1] * f1[c] + a[2] * f2[c] + a[3] * f3[c] + a[4] * f4[c] + a[5] * f5[c];
+                }
+                // Mirror onto row r. Entries outside the branch-induced pattern are never
+                // written and stay zero from `Data::new`.
+                for c in r + 1..end {
+                    m[c * nv + r] = m[r * nv + c];
                 }
             }
         }
         if let Some(p) = j.parent {
-            m6_add_assign(&mut data.ycrb[p], &y);
-        }
-    }
-    if with_m {
-        mirror_lower_to_upper(data.m.as_mut_slice(), model.nv);
-    }
-}
-
-/// Copies the lower triangle of a column-major n × n matrix onto its upper triangle.
-fn mirror_lower_to_upper(m: &mut [f64], n: usize) {
-    for c in 1..n {
-        for r in 0..c {
-            m[c * n + r] = m[r * n + c];
+            data.composite[p] += y;
         }
     }
 }

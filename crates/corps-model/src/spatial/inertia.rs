@@ -117,3 +117,67 @@ impl AddAssign for Inertia {
         *self = *self + o;
     }
 }
+
+/// A rigid-body inertia about the frame origin: mass `m`, first moment `h = m c` and
+/// rotational inertia about the origin `I_O = I_c + m (|c|² 1 − c cᵀ)`. Unlike [`Inertia`],
+/// sums of these are plain component sums, which makes composite inertias (CRBA) cheap.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct OriginInertia {
+    /// Mass.
+    pub mass: f64,
+    /// First moment of mass `m c`.
+    pub first_moment: Vector3<f64>,
+    /// Rotational inertia about the origin (symmetric).
+    pub inertia: Matrix3<f64>,
+}
+
+impl OriginInertia {
+    /// Momentum `h = I v`: `f = m v − h × ω`, `n = h × v + I_O ω`.
+    #[inline]
+    pub fn mul_motion(&self, v: &Motion) -> Force {
+        Force::new(
+            v.linear * self.mass - self.first_moment.cross(&v.angular),
+            self.first_moment.cross(&v.linear) + m3v(&self.inertia, &v.angular),
+        )
+    }
+
+    /// Centre of mass (origin if massless).
+    pub fn com(&self) -> Vector3<f64> {
+        if self.mass > 0.0 {
+            self.first_moment / self.mass
+        } else {
+            Vector3::zeros()
+        }
+    }
+}
+
+impl AddAssign for OriginInertia {
+    #[inline]
+    fn add_assign(&mut self, o: OriginInertia) {
+        self.mass += o.mass;
+        self.first_moment += o.first_moment;
+        self.inertia += o.inertia;
+    }
+}
+
+impl Inertia {
+    /// The same inertia in origin form.
+    #[inline]
+    pub fn to_origin_form(&self) -> OriginInertia {
+        let (m, c) = (self.mass, self.lever);
+        let h = c * m;
+        let i = &self.inertia;
+        // I_c + m (|c|² 1 − c cᵀ), symmetric.
+        let (xx, yy, zz) = (
+            i.m11 + h.y * c.y + h.z * c.z,
+            i.m22 + h.x * c.x + h.z * c.z,
+            i.m33 + h.x * c.x + h.y * c.y,
+        );
+        let (xy, xz, yz) = (i.m12 - h.x * c.y, i.m13 - h.x * c.z, i.m23 - h.y * c.z);
+        OriginInertia {
+            mass: m,
+            first_moment: h,
+            inertia: Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz),
+        }
+    }
+}

@@ -10,7 +10,7 @@ mod se3;
 mod se3_lie;
 
 pub use force::Force;
-pub use inertia::Inertia;
+pub use inertia::{Inertia, OriginInertia};
 pub use motion::Motion;
 pub use se3::Se3;
 pub use se3_lie::{exp6, log6};
