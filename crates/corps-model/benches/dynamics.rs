@@ -12,7 +12,10 @@ use std::hint::black_box;
 const POOL: usize = 1000;
 
 fn talos() -> Model {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../robots/talos_data/robots/talos_reduced.urdf");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../robots/talos_data/robots/talos_reduced.urdf"
+    );
     build_model_from_urdf_file(path, RootJoint::FreeFlyer).expect("TALOS loads")
 }
 
@@ -46,17 +49,79 @@ fn bench(c: &mut Criterion) {
             });
         };
     }
-    algo!("rnea", |s| rnea(&model, &mut data, s.0.as_slice(), s.1.as_slice(), s.2.as_slice()).is_ok());
-    algo!("nle", |s| nonlinear_effects(&model, &mut data, s.0.as_slice(), s.1.as_slice()).is_ok());
+    algo!("rnea", |s| rnea(
+        &model,
+        &mut data,
+        s.0.as_slice(),
+        s.1.as_slice(),
+        s.2.as_slice()
+    )
+    .is_ok());
+    algo!("nle", |s| nonlinear_effects(
+        &model,
+        &mut data,
+        s.0.as_slice(),
+        s.1.as_slice()
+    )
+    .is_ok());
     algo!("crba", |s| crba(&model, &mut data, s.0.as_slice()).is_ok());
-    algo!("aba", |s| aba(&model, &mut data, s.0.as_slice(), s.1.as_slice(), s.3.as_slice()).is_ok());
-    algo!("joint_jacobians", |s| compute_joint_jacobians(&model, &mut data, s.0.as_slice()).is_ok());
-    algo!("ccrba", |s| compute_centroidal_momentum(&model, &mut data, s.0.as_slice(), s.1.as_slice()).is_ok());
-    algo!("all_terms", |s| compute_all_terms(&model, &mut data, s.0.as_slice(), s.1.as_slice()).is_ok());
-    algo!("fk_acc", |s| forward_kinematics(&model, &mut data, s.0.as_slice(), s.1.as_slice(), s.2.as_slice()).is_ok());
-    algo!("minv", |s| compute_minverse(&model, &mut data, s.0.as_slice()).is_ok());
-    algo!("coriolis", |s| coriolis_matrix(&model, &mut data, s.0.as_slice(), s.1.as_slice()).is_ok());
-    algo!("fd_crba_ltdl", |s| forward_dynamics_crba(&model, &mut data, s.0.as_slice(), s.1.as_slice(), s.3.as_slice()).is_ok());
+    algo!("aba", |s| aba(
+        &model,
+        &mut data,
+        s.0.as_slice(),
+        s.1.as_slice(),
+        s.3.as_slice()
+    )
+    .is_ok());
+    algo!("joint_jacobians", |s| compute_joint_jacobians(
+        &model,
+        &mut data,
+        s.0.as_slice()
+    )
+    .is_ok());
+    algo!("ccrba", |s| compute_centroidal_momentum(
+        &model,
+        &mut data,
+        s.0.as_slice(),
+        s.1.as_slice()
+    )
+    .is_ok());
+    algo!("all_terms", |s| compute_all_terms(
+        &model,
+        &mut data,
+        s.0.as_slice(),
+        s.1.as_slice()
+    )
+    .is_ok());
+    algo!("fk_acc", |s| forward_kinematics(
+        &model,
+        &mut data,
+        s.0.as_slice(),
+        s.1.as_slice(),
+        s.2.as_slice()
+    )
+    .is_ok());
+    algo!("minv", |s| compute_minverse(
+        &model,
+        &mut data,
+        s.0.as_slice()
+    )
+    .is_ok());
+    algo!("coriolis", |s| coriolis_matrix(
+        &model,
+        &mut data,
+        s.0.as_slice(),
+        s.1.as_slice()
+    )
+    .is_ok());
+    algo!("fd_crba_ltdl", |s| forward_dynamics_crba(
+        &model,
+        &mut data,
+        s.0.as_slice(),
+        s.1.as_slice(),
+        s.3.as_slice()
+    )
+    .is_ok());
     g.finish();
 }
 

@@ -7,7 +7,10 @@ fn main() {
     let mut args = std::env::args().skip(1);
     let algo = args.next().unwrap_or_else(|| "crba".into());
     let n: usize = args.next().and_then(|s| s.parse().ok()).unwrap_or(100_000);
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../robots/talos_data/robots/talos_reduced.urdf");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../robots/talos_data/robots/talos_reduced.urdf"
+    );
     let model = build_model_from_urdf_file(path, RootJoint::FreeFlyer).expect("TALOS loads");
     let mut data = Data::new(&model);
     let mut rng = rand::thread_rng();
@@ -30,5 +33,8 @@ fn main() {
         };
         std::hint::black_box(r).expect("valid state");
     }
-    eprintln!("{algo}: {:.3} us/call", t0.elapsed().as_secs_f64() * 1e6 / n as f64);
+    eprintln!(
+        "{algo}: {:.3} us/call",
+        t0.elapsed().as_secs_f64() * 1e6 / n as f64
+    );
 }

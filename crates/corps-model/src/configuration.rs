@@ -68,7 +68,11 @@ pub fn integrate_to(model: &Model, q: &[f64], v: &[f64], out: &mut [f64]) -> Res
     model.check_configuration(q)?;
     check_vector("velocity v", v, model.nv)?;
     if out.len() != model.nq {
-        return Err(crate::ModelError::Dimension { what: "output configuration", got: out.len(), expected: model.nq });
+        return Err(crate::ModelError::Dimension {
+            what: "output configuration",
+            got: out.len(),
+            expected: model.nq,
+        });
     }
     out.copy_from_slice(q);
     for j in &model.joints {
@@ -104,7 +108,11 @@ pub fn difference_to(model: &Model, q0: &[f64], q1: &[f64], v: &mut [f64]) -> Re
     model.check_configuration(q0)?;
     model.check_configuration(q1)?;
     if v.len() != model.nv {
-        return Err(crate::ModelError::Dimension { what: "output velocity", got: v.len(), expected: model.nv });
+        return Err(crate::ModelError::Dimension {
+            what: "output velocity",
+            got: v.len(),
+            expected: model.nv,
+        });
     }
     for j in &model.joints {
         let (iq, iv) = (j.idx_q, j.idx_v);
@@ -134,8 +142,16 @@ pub fn interpolate(model: &Model, q0: &[f64], q1: &[f64], u: f64) -> Result<DVec
 pub fn random_configuration(model: &Model, rng: &mut impl Rng) -> DVector<f64> {
     let mut q = neutral(model);
     let bounded = |lo: f64, hi: f64, rng: &mut dyn rand::RngCore| {
-        let lo = if lo.is_finite() { lo } else { -std::f64::consts::PI };
-        let hi = if hi.is_finite() { hi } else { std::f64::consts::PI };
+        let lo = if lo.is_finite() {
+            lo
+        } else {
+            -std::f64::consts::PI
+        };
+        let hi = if hi.is_finite() {
+            hi
+        } else {
+            std::f64::consts::PI
+        };
         if hi > lo {
             rng.gen_range(lo..=hi)
         } else {
@@ -147,7 +163,10 @@ pub fn random_configuration(model: &Model, rng: &mut impl Rng) -> DVector<f64> {
         match j.kind {
             JointKind::FreeFlyer => {
                 for k in 0..3 {
-                    let (lo, hi) = (model.lower_position_limit[iq + k], model.upper_position_limit[iq + k]);
+                    let (lo, hi) = (
+                        model.lower_position_limit[iq + k],
+                        model.upper_position_limit[iq + k],
+                    );
                     q[iq + k] = if lo.is_finite() && hi.is_finite() {
                         bounded(lo, hi, rng)
                     } else {
@@ -169,7 +188,11 @@ pub fn random_configuration(model: &Model, rng: &mut impl Rng) -> DVector<f64> {
                 q[iq + 1] = t.sin();
             }
             _ => {
-                q[iq] = bounded(model.lower_position_limit[iq], model.upper_position_limit[iq], rng)
+                q[iq] = bounded(
+                    model.lower_position_limit[iq],
+                    model.upper_position_limit[iq],
+                    rng,
+                )
             }
         }
     }

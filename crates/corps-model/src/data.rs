@@ -145,7 +145,10 @@ pub(crate) fn col_motion(m: &Matrix6xX<f64>, k: usize) -> Motion {
 #[inline]
 pub(crate) fn col_force(m: &Matrix6xX<f64>, k: usize) -> Force {
     let s = &m.as_slice()[6 * k..6 * k + 6];
-    Force::new(Vector3::new(s[0], s[1], s[2]), Vector3::new(s[3], s[4], s[5]))
+    Force::new(
+        Vector3::new(s[0], s[1], s[2]),
+        Vector3::new(s[3], s[4], s[5]),
+    )
 }
 
 /// Writes a spatial vector `[lin; ang]` into column k of a 6 × nv matrix.

@@ -13,7 +13,10 @@ pub enum Shape {
     /// Sphere.
     Sphere { radius: f64 },
     /// A mesh file reference (not loaded).
-    Mesh { filename: String, scale: Vector3<f64> },
+    Mesh {
+        filename: String,
+        scale: Vector3<f64>,
+    },
 }
 
 /// One collision shape of a link, placed in the frame of the joint that moves it.

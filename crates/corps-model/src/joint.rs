@@ -56,10 +56,9 @@ impl JointKind {
                 let (s, c) = q[0].sin_cos();
                 Se3::new(rotation::axis_angle_cs(axis, c, s), Vector3::zeros())
             }
-            JointKind::RevoluteUnbounded { axis } => Se3::new(
-                rotation::axis_angle_cs(axis, q[0], q[1]),
-                Vector3::zeros(),
-            ),
+            JointKind::RevoluteUnbounded { axis } => {
+                Se3::new(rotation::axis_angle_cs(axis, q[0], q[1]), Vector3::zeros())
+            }
             JointKind::Prismatic { axis } => Se3::new(Matrix3::identity(), axis * q[0]),
         }
     }

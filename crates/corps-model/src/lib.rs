@@ -45,7 +45,9 @@ pub use algorithms::centroidal::{
     center_of_mass, centroidal_momentum_drift, compute_centroidal_map, compute_centroidal_momentum,
     jacobian_center_of_mass,
 };
-pub use algorithms::cholesky::{compute_minverse, factorize_mass_matrix, forward_dynamics_crba, solve_mass_matrix};
+pub use algorithms::cholesky::{
+    compute_minverse, factorize_mass_matrix, forward_dynamics_crba, solve_mass_matrix,
+};
 pub use algorithms::coriolis::coriolis_matrix;
 pub use algorithms::crba::crba;
 pub use algorithms::energy::{kinetic_energy, potential_energy};
@@ -57,7 +59,8 @@ pub use algorithms::kinematics::{forward_kinematics, forward_kinematics_placemen
 pub use algorithms::operational_space::frame_operational_space_inertia;
 pub use algorithms::rnea::{generalized_gravity, nonlinear_effects, rnea};
 pub use configuration::{
-    difference, difference_to, integrate, integrate_to, interpolate, neutral, normalize, random_configuration,
+    difference, difference_to, integrate, integrate_to, interpolate, neutral, normalize,
+    random_configuration,
 };
 pub use data::Data;
 pub use error::{ModelError, Result};
@@ -65,4 +68,6 @@ pub use frame::{Frame, FrameKind};
 pub use geometry::{CollisionGeometry, Shape};
 pub use joint::{Joint, JointKind};
 pub use model::{check_vector, Model};
-pub use parse::{build_model_from_urdf_file, build_model_from_urdf_str, load_reference_configurations, RootJoint};
+pub use parse::{
+    build_model_from_urdf_file, build_model_from_urdf_str, load_reference_configurations, RootJoint,
+};

@@ -45,7 +45,10 @@ fn structural_errors_name_the_element() {
     assert!(e.contains("wrist") && e.contains("ghost"), "{e}");
     let e = err_of(&GOOD.replace(r#"<parent link="arm"/>"#, r#"<parent link="nowhere"/>"#));
     assert!(e.contains("nowhere") && e.contains("parent"), "{e}");
-    let e = err_of(&GOOD.replace(r#"<link name="hand"/>"#, r#"<link name="hand"/><link name="arm"/>"#));
+    let e = err_of(&GOOD.replace(
+        r#"<link name="hand"/>"#,
+        r#"<link name="hand"/><link name="arm"/>"#,
+    ));
     assert!(e.contains("duplicate link name 'arm'"), "{e}");
     let e = err_of(&GOOD.replace(r#"name="wrist""#, r#"name="shoulder""#));
     assert!(e.contains("duplicate joint name 'shoulder'"), "{e}");
@@ -92,18 +95,34 @@ fn bad_inertias_are_rejected() {
 fn unknown_names_and_bad_vectors() {
     let model = load_str(GOOD).unwrap();
     let mut data = Data::new(&model);
-    assert_eq!(model.frame_id("nope"), Err(ModelError::UnknownFrame("nope".into())));
+    assert_eq!(
+        model.frame_id("nope"),
+        Err(ModelError::UnknownFrame("nope".into()))
+    );
     assert!(matches!(
         model.reference_configuration("half_sitting"),
         Err(ModelError::UnknownConfiguration { .. })
     ));
     let q = neutral(&model);
     let e = rnea(&model, &mut data, &q.as_slice()[..3], &[0.0; 7], &[0.0; 7]).unwrap_err();
-    assert_eq!(e, ModelError::Dimension { what: "configuration q", got: 3, expected: 8 });
+    assert_eq!(
+        e,
+        ModelError::Dimension {
+            what: "configuration q",
+            got: 3,
+            expected: 8
+        }
+    );
     let mut v = [0.0; 7];
     v[4] = f64::NAN;
     let e = aba(&model, &mut data, q.as_slice(), &v, &[0.0; 7]).unwrap_err();
-    assert_eq!(e, ModelError::NonFinite { what: "velocity v", index: 4 });
+    assert_eq!(
+        e,
+        ModelError::NonFinite {
+            what: "velocity v",
+            index: 4
+        }
+    );
     assert!(crba(&model, &mut data, &[f64::INFINITY; 8]).is_err());
 }
 
@@ -112,13 +131,17 @@ fn missing_files_are_io_errors() {
     let e = build_model_from_urdf_file("/nonexistent/robot.urdf", RootJoint::Fixed).unwrap_err();
     assert!(matches!(e, ModelError::Io { .. }));
     let mut m = load_str(GOOD).unwrap();
-    assert!(matches!(load_reference_configurations(&mut m, "/nonexistent.srdf"), Err(ModelError::Io { .. })));
+    assert!(matches!(
+        load_reference_configurations(&mut m, "/nonexistent.srdf"),
+        Err(ModelError::Io { .. })
+    ));
 }
 
 #[test]
 fn srdf_reference_configurations_load_by_name() {
     let mut talos = load(TALOS, RootJoint::FreeFlyer);
-    load_reference_configurations(&mut talos, repo_path("robots/talos_data/srdf/talos.srdf")).unwrap();
+    load_reference_configurations(&mut talos, repo_path("robots/talos_data/srdf/talos.srdf"))
+        .unwrap();
     let q = talos.reference_configuration("half_sitting").unwrap();
     assert!((q[2] - 1.01927).abs() < 1e-12, "root height {}", q[2]);
     let knee = talos.joints[talos.joint_id("leg_left_4_joint").unwrap()].idx_q;

@@ -15,15 +15,35 @@ fn crba_matches_rnea_column_by_column() {
         for s in 0..STATES {
             let (q, v, _, _) = random_state(&model, s);
             let m = crba(&model, &mut data, q.as_slice()).unwrap().clone();
-            let g = generalized_gravity(&model, &mut data, q.as_slice()).unwrap().clone();
+            let g = generalized_gravity(&model, &mut data, q.as_slice())
+                .unwrap()
+                .clone();
             let zero = DVector::zeros(model.nv);
             for k in 0..model.nv {
                 let mut e = DVector::zeros(model.nv);
                 e[k] = 1.0;
-                let col = rnea(&model, &mut data, q.as_slice(), zero.as_slice(), e.as_slice()).unwrap() - &g;
-                assert_close(&format!("{name} M column {k}"), col.as_slice(), m.column(k).as_slice(), 1e-10);
+                let col = rnea(
+                    &model,
+                    &mut data,
+                    q.as_slice(),
+                    zero.as_slice(),
+                    e.as_slice(),
+                )
+                .unwrap()
+                    - &g;
+                assert_close(
+                    &format!("{name} M column {k}"),
+                    col.as_slice(),
+                    m.column(k).as_slice(),
+                    1e-10,
+                );
             }
-            assert_close(&format!("{name} M symmetric"), m.as_slice(), m.transpose().as_slice(), 1e-12);
+            assert_close(
+                &format!("{name} M symmetric"),
+                m.as_slice(),
+                m.transpose().as_slice(),
+                1e-12,
+            );
             let _ = v;
         }
     }
@@ -35,12 +55,41 @@ fn aba_inverts_rnea_and_agrees_with_crba_forward_dynamics() {
         let mut data = Data::new(&model);
         for s in 0..STATES {
             let (q, v, a, tau) = random_state(&model, s);
-            let t = rnea(&model, &mut data, q.as_slice(), v.as_slice(), a.as_slice()).unwrap().clone();
-            let a2 = aba(&model, &mut data, q.as_slice(), v.as_slice(), t.as_slice()).unwrap().clone();
-            assert_close(&format!("{name} ABA(RNEA(a))"), a2.as_slice(), a.as_slice(), 1e-9);
-            let a3 = aba(&model, &mut data, q.as_slice(), v.as_slice(), tau.as_slice()).unwrap().clone();
-            let a4 = forward_dynamics_crba(&model, &mut data, q.as_slice(), v.as_slice(), tau.as_slice()).unwrap();
-            assert_close(&format!("{name} ABA vs CRBA forward dynamics"), a3.as_slice(), a4.as_slice(), 1e-9);
+            let t = rnea(&model, &mut data, q.as_slice(), v.as_slice(), a.as_slice())
+                .unwrap()
+                .clone();
+            let a2 = aba(&model, &mut data, q.as_slice(), v.as_slice(), t.as_slice())
+                .unwrap()
+                .clone();
+            assert_close(
+                &format!("{name} ABA(RNEA(a))"),
+                a2.as_slice(),
+                a.as_slice(),
+                1e-9,
+            );
+            let a3 = aba(
+                &model,
+                &mut data,
+                q.as_slice(),
+                v.as_slice(),
+                tau.as_slice(),
+            )
+            .unwrap()
+            .clone();
+            let a4 = forward_dynamics_crba(
+                &model,
+                &mut data,
+                q.as_slice(),
+                v.as_slice(),
+                tau.as_slice(),
+            )
+            .unwrap();
+            assert_close(
+                &format!("{name} ABA vs CRBA forward dynamics"),
+                a3.as_slice(),
+                a4.as_slice(),
+                1e-9,
+            );
         }
     }
 }
@@ -50,10 +99,17 @@ fn minverse_inverts_m() {
     for (name, model) in robots() {
         let mut data = Data::new(&model);
         let (q, ..) = random_state(&model, 7);
-        let minv = compute_minverse(&model, &mut data, q.as_slice()).unwrap().clone();
+        let minv = compute_minverse(&model, &mut data, q.as_slice())
+            .unwrap()
+            .clone();
         let prod = &data.m * &minv;
         let id = DMatrix::<f64>::identity(model.nv, model.nv);
-        assert_close(&format!("{name} M M⁻¹"), prod.as_slice(), id.as_slice(), 1e-9);
+        assert_close(
+            &format!("{name} M M⁻¹"),
+            prod.as_slice(),
+            id.as_slice(),
+            1e-9,
+        );
     }
 }
 
@@ -81,13 +137,25 @@ fn frame_jacobians_match_finite_differences() {
                 compute_joint_jacobians(&model, &mut data, q.as_slice()).unwrap();
                 frame_jacobian(&model, &data, fid, ReferenceFrame::Local, &mut jac).unwrap();
                 let jv_local = &jac * &v;
-                frame_jacobian(&model, &data, fid, ReferenceFrame::LocalWorldAligned, &mut jac).unwrap();
+                frame_jacobian(
+                    &model,
+                    &data,
+                    fid,
+                    ReferenceFrame::LocalWorldAligned,
+                    &mut jac,
+                )
+                .unwrap();
                 let jv_lwa = &jac * &v;
                 frame_jacobian(&model, &data, fid, ReferenceFrame::World, &mut jac).unwrap();
                 let jv_world = &jac * &v;
                 let m0 = frame_placement(&model, &data, fid).unwrap();
                 let place = |t: f64, data: &mut Data| {
-                    forward_kinematics_placements(&model, data, along(&model, &q, &v, t).as_slice()).unwrap();
+                    forward_kinematics_placements(
+                        &model,
+                        data,
+                        along(&model, &q, &v, t).as_slice(),
+                    )
+                    .unwrap();
                     frame_placement(&model, data, fid).unwrap()
                 };
                 let (mp, mm) = (place(h, &mut data), place(-h, &mut data));
@@ -96,10 +164,20 @@ fn frame_jacobians_match_finite_differences() {
                     - spatial::log6(&(m0.inverse() * mm)).to_vector())
                     / (2.0 * h);
                 let ctx = format!("{name} frame {}", model.frames[fid].name);
-                assert_close(&format!("{ctx} J_local v"), jv_local.as_slice(), fd.as_slice(), 1e-6);
+                assert_close(
+                    &format!("{ctx} J_local v"),
+                    jv_local.as_slice(),
+                    fd.as_slice(),
+                    1e-6,
+                );
                 // LWA: origin velocity in world axes, and world angular velocity.
                 let dp = (mp.translation - mm.translation) / (2.0 * h);
-                assert_close(&format!("{ctx} J_lwa v (linear)"), &jv_lwa.as_slice()[..3], dp.as_slice(), 1e-6);
+                assert_close(
+                    &format!("{ctx} J_lwa v (linear)"),
+                    &jv_lwa.as_slice()[..3],
+                    dp.as_slice(),
+                    1e-6,
+                );
                 assert_close(
                     &format!("{ctx} J_lwa v (angular)"),
                     &jv_lwa.as_slice()[3..],
@@ -109,7 +187,12 @@ fn frame_jacobians_match_finite_differences() {
                 // WORLD: velocity of the point at the world origin.
                 let w = m0.rotation * fd.fixed_rows::<3>(3);
                 let v_origin = dp - w.cross(&m0.translation);
-                assert_close(&format!("{ctx} J_world v"), &jv_world.as_slice()[..3], v_origin.as_slice(), 1e-6);
+                assert_close(
+                    &format!("{ctx} J_world v"),
+                    &jv_world.as_slice()[..3],
+                    v_origin.as_slice(),
+                    1e-6,
+                );
             }
         }
     }
@@ -125,15 +208,25 @@ fn classical_acceleration_is_the_jacobian_drift() {
         for fid in test_frames(&model) {
             let mut jv = |t: f64, data: &mut Data| {
                 compute_joint_jacobians(&model, data, along(&model, &q, &v, t).as_slice()).unwrap();
-                frame_jacobian(&model, data, fid, ReferenceFrame::LocalWorldAligned, &mut jac).unwrap();
+                frame_jacobian(
+                    &model,
+                    data,
+                    fid,
+                    ReferenceFrame::LocalWorldAligned,
+                    &mut jac,
+                )
+                .unwrap();
                 (&jac * &v, jac.clone())
             };
             let (jp, _) = jv(h, &mut data);
             let (jm, _) = jv(-h, &mut data);
             let (_, j0) = jv(0.0, &mut data);
             let drift_fd = (jp - jm) / (2.0 * h);
-            forward_kinematics(&model, &mut data, q.as_slice(), v.as_slice(), a.as_slice()).unwrap();
-            let acc = frame_classical_acceleration(&model, &data, fid, ReferenceFrame::LocalWorldAligned).unwrap();
+            forward_kinematics(&model, &mut data, q.as_slice(), v.as_slice(), a.as_slice())
+                .unwrap();
+            let acc =
+                frame_classical_acceleration(&model, &data, fid, ReferenceFrame::LocalWorldAligned)
+                    .unwrap();
             let expected = drift_fd + j0 * &a;
             assert_close(
                 &format!("{name} frame {} classical acc", model.frames[fid].name),
@@ -152,18 +245,38 @@ fn coriolis_matrix_is_consistent_and_mdot_minus_2c_is_skew() {
         let mut data = Data::new(&model);
         for s in 0..3 {
             let (q, v, ..) = random_state(&model, s);
-            let c = coriolis_matrix(&model, &mut data, q.as_slice(), v.as_slice()).unwrap().clone();
-            let nle = nonlinear_effects(&model, &mut data, q.as_slice(), v.as_slice()).unwrap().clone();
-            let g = generalized_gravity(&model, &mut data, q.as_slice()).unwrap().clone();
-            assert_close(&format!("{name} C v = h − g"), (&c * &v).as_slice(), (nle - g).as_slice(), 1e-9);
-            let mp = crba(&model, &mut data, along(&model, &q, &v, h).as_slice()).unwrap().clone();
-            let mm = crba(&model, &mut data, along(&model, &q, &v, -h).as_slice()).unwrap().clone();
+            let c = coriolis_matrix(&model, &mut data, q.as_slice(), v.as_slice())
+                .unwrap()
+                .clone();
+            let nle = nonlinear_effects(&model, &mut data, q.as_slice(), v.as_slice())
+                .unwrap()
+                .clone();
+            let g = generalized_gravity(&model, &mut data, q.as_slice())
+                .unwrap()
+                .clone();
+            assert_close(
+                &format!("{name} C v = h − g"),
+                (&c * &v).as_slice(),
+                (nle - g).as_slice(),
+                1e-9,
+            );
+            let mp = crba(&model, &mut data, along(&model, &q, &v, h).as_slice())
+                .unwrap()
+                .clone();
+            let mm = crba(&model, &mut data, along(&model, &q, &v, -h).as_slice())
+                .unwrap()
+                .clone();
             let mdot = (mp - mm) / (2.0 * h);
             let n = &mdot - &c * 2.0;
             let sym = &n + n.transpose();
             let zero = DMatrix::<f64>::zeros(model.nv, model.nv);
             let scale = mdot.amax().max(1.0);
-            assert_close(&format!("{name} Ṁ − 2C skew"), (sym / scale).as_slice(), zero.as_slice(), 1e-6);
+            assert_close(
+                &format!("{name} Ṁ − 2C skew"),
+                (sym / scale).as_slice(),
+                zero.as_slice(),
+                1e-6,
+            );
         }
     }
 }
@@ -175,7 +288,15 @@ fn power_balance_d_energy_dt_equals_tau_dot_v() {
         let mut data = Data::new(&model);
         for s in 0..3 {
             let (q, v, _, tau) = random_state(&model, s);
-            let a = aba(&model, &mut data, q.as_slice(), v.as_slice(), tau.as_slice()).unwrap().clone();
+            let a = aba(
+                &model,
+                &mut data,
+                q.as_slice(),
+                v.as_slice(),
+                tau.as_slice(),
+            )
+            .unwrap()
+            .clone();
             let mut energy = |t: f64| {
                 let qt = along(&model, &q, &v, t);
                 let vt = &v + &a * t;
@@ -200,25 +321,49 @@ fn centroidal_quantities_are_consistent() {
         let mass = model.total_mass();
         for s in 0..3 {
             let (q, v, a, _) = random_state(&model, s);
-            let hg = compute_centroidal_momentum(&model, &mut data, q.as_slice(), v.as_slice()).unwrap();
+            let hg =
+                compute_centroidal_momentum(&model, &mut data, q.as_slice(), v.as_slice()).unwrap();
             let jcom = data.jcom.clone();
             let ag = data.ag.clone();
             center_of_mass(&model, &mut data, q.as_slice(), v.as_slice(), a.as_slice()).unwrap();
             let (vcom, acom) = (data.vcom, data.acom);
             // Linear momentum = m ċ = m Jcom v.
-            assert_close(&format!("{name} Jcom v"), (&jcom * &v).as_slice(), vcom.as_slice(), 1e-10);
-            assert_close(&format!("{name} h_G linear"), hg.linear.as_slice(), (vcom * mass).as_slice(), 1e-10);
+            assert_close(
+                &format!("{name} Jcom v"),
+                (&jcom * &v).as_slice(),
+                vcom.as_slice(),
+                1e-10,
+            );
+            assert_close(
+                &format!("{name} h_G linear"),
+                hg.linear.as_slice(),
+                (vcom * mass).as_slice(),
+                1e-10,
+            );
             // d/dt h_G = Ȧ_G v + A_G a, and its linear part = m c̈.
-            let drift = centroidal_momentum_drift(&model, &mut data, q.as_slice(), v.as_slice()).unwrap();
+            let drift =
+                centroidal_momentum_drift(&model, &mut data, q.as_slice(), v.as_slice()).unwrap();
             let rate = drift.to_vector() + &ag * &a;
-            assert_close(&format!("{name} ḣ_G linear"), &rate.as_slice()[..3], (acom * mass).as_slice(), 1e-9);
+            assert_close(
+                &format!("{name} ḣ_G linear"),
+                &rate.as_slice()[..3],
+                (acom * mass).as_slice(),
+                1e-9,
+            );
             let mut hg_at = |t: f64| {
                 let qt = along(&model, &q, &v, t);
                 let vt = &v + &a * t;
-                compute_centroidal_momentum(&model, &mut data, qt.as_slice(), vt.as_slice()).unwrap().to_vector()
+                compute_centroidal_momentum(&model, &mut data, qt.as_slice(), vt.as_slice())
+                    .unwrap()
+                    .to_vector()
             };
             let fd = (hg_at(h) - hg_at(-h)) / (2.0 * h);
-            assert_close(&format!("{name} ḣ_G by finite differences"), rate.as_slice(), fd.as_slice(), 1e-6);
+            assert_close(
+                &format!("{name} ḣ_G by finite differences"),
+                rate.as_slice(),
+                fd.as_slice(),
+                1e-6,
+            );
         }
     }
 }
@@ -235,10 +380,30 @@ fn compute_all_terms_agrees_with_the_single_algorithms() {
         kinetic_energy(&model, &mut d2, q.as_slice(), v.as_slice()).unwrap();
         potential_energy(&model, &mut d2, q.as_slice()).unwrap();
         compute_centroidal_momentum(&model, &mut d2, q.as_slice(), v.as_slice()).unwrap();
-        assert_close(&format!("{name} M"), data.m.as_slice(), d2.m.as_slice(), 1e-12);
-        assert_close(&format!("{name} nle"), data.nle.as_slice(), d2.nle.as_slice(), 1e-12);
-        assert_close(&format!("{name} Ag"), data.ag.as_slice(), d2.ag.as_slice(), 1e-12);
-        assert_close(&format!("{name} hg"), data.hg.to_vector().as_slice(), d2.hg.to_vector().as_slice(), 1e-12);
+        assert_close(
+            &format!("{name} M"),
+            data.m.as_slice(),
+            d2.m.as_slice(),
+            1e-12,
+        );
+        assert_close(
+            &format!("{name} nle"),
+            data.nle.as_slice(),
+            d2.nle.as_slice(),
+            1e-12,
+        );
+        assert_close(
+            &format!("{name} Ag"),
+            data.ag.as_slice(),
+            d2.ag.as_slice(),
+            1e-12,
+        );
+        assert_close(
+            &format!("{name} hg"),
+            data.hg.to_vector().as_slice(),
+            d2.hg.to_vector().as_slice(),
+            1e-12,
+        );
         assert!((data.kinetic_energy - d2.kinetic_energy).abs() < 1e-9);
         assert!((data.potential_energy - d2.potential_energy).abs() < 1e-9);
     }
@@ -253,13 +418,28 @@ fn configuration_space_operations_are_consistent() {
             let d = difference(&model, q0.as_slice(), q1.as_slice()).unwrap();
             let q1b = integrate(&model, q0.as_slice(), d.as_slice()).unwrap();
             let back = difference(&model, q1.as_slice(), q1b.as_slice()).unwrap();
-            assert_close(&format!("{name} q0 ⊕ (q1 ⊖ q0) = q1"), back.as_slice(), &vec![0.0; model.nv], 1e-9);
+            assert_close(
+                &format!("{name} q0 ⊕ (q1 ⊖ q0) = q1"),
+                back.as_slice(),
+                &vec![0.0; model.nv],
+                1e-9,
+            );
             let qv = integrate(&model, q0.as_slice(), v.as_slice()).unwrap();
             let v2 = difference(&model, q0.as_slice(), qv.as_slice()).unwrap();
-            assert_close(&format!("{name} (q ⊕ v) ⊖ q = v"), v2.as_slice(), v.as_slice(), 1e-9);
+            assert_close(
+                &format!("{name} (q ⊕ v) ⊖ q = v"),
+                v2.as_slice(),
+                v.as_slice(),
+                1e-9,
+            );
             let q_half = interpolate(&model, q0.as_slice(), q1.as_slice(), 0.5).unwrap();
             let d0 = difference(&model, q0.as_slice(), q_half.as_slice()).unwrap();
-            assert_close(&format!("{name} interpolate halfway"), d0.as_slice(), (&d * 0.5).as_slice(), 1e-9);
+            assert_close(
+                &format!("{name} interpolate halfway"),
+                d0.as_slice(),
+                (&d * 0.5).as_slice(),
+                1e-9,
+            );
             let mut qn = q0.clone() * 1.0;
             if model.has_free_flyer() {
                 for k in 3..7 {
@@ -267,7 +447,12 @@ fn configuration_space_operations_are_consistent() {
                 }
             }
             normalize(&model, qn.as_mut_slice());
-            assert_close(&format!("{name} normalize"), qn.as_slice(), q0.as_slice(), 1e-12);
+            assert_close(
+                &format!("{name} normalize"),
+                qn.as_slice(),
+                q0.as_slice(),
+                1e-12,
+            );
         }
     }
 }

@@ -59,9 +59,17 @@ fn no_algorithm_allocates_once_data_exists() {
                 forward_kinematics(&model, &mut data, q, v, a).unwrap();
                 update_frame_placements(&model, &mut data);
                 frame_velocity(&model, &data, fid, ReferenceFrame::Local).unwrap();
-                frame_classical_acceleration(&model, &data, fid, ReferenceFrame::LocalWorldAligned).unwrap();
+                frame_classical_acceleration(&model, &data, fid, ReferenceFrame::LocalWorldAligned)
+                    .unwrap();
                 compute_joint_jacobians(&model, &mut data, q).unwrap();
-                frame_jacobian(&model, &data, fid, ReferenceFrame::LocalWorldAligned, &mut jac).unwrap();
+                frame_jacobian(
+                    &model,
+                    &data,
+                    fid,
+                    ReferenceFrame::LocalWorldAligned,
+                    &mut jac,
+                )
+                .unwrap();
                 center_of_mass(&model, &mut data, q, v, a).unwrap();
                 jacobian_center_of_mass(&model, &mut data, q).unwrap();
                 compute_centroidal_momentum(&model, &mut data, q, v).unwrap();
@@ -78,9 +86,13 @@ fn no_algorithm_allocates_once_data_exists() {
         // The operational-space inertia is checked on a frame with six independent directions.
         if model.has_free_flyer() {
             let n = allocations_during(|| {
-                frame_operational_space_inertia(&model, &mut data, q, fid, ReferenceFrame::Local).unwrap();
+                frame_operational_space_inertia(&model, &mut data, q, fid, ReferenceFrame::Local)
+                    .unwrap();
             });
-            assert_eq!(n, 0, "{name}: operational-space inertia allocated {n} times");
+            assert_eq!(
+                n, 0,
+                "{name}: operational-space inertia allocated {n} times"
+            );
         }
     }
 }

@@ -6,12 +6,12 @@
 //! backward U = I^A S, D = Sᵀ U, u = τ − Sᵀ p^A, I^a = I^A − U D⁻¹ Uᵀ,
 //! p^a = p^A + I^a c + U D⁻¹ u; forward q̈ = D⁻¹ (u − Uᵀ a_λ'), a = a_λ + c + S q̈.
 
-use super::jacobians::write_joint_columns;
-use crate::spatial::kernels::{m6_add_assign, m6_rank1_sub, m6v};
+use super::jacobians::{joint_world_twist, write_joint_columns};
 use crate::data::{col_motion, Data};
 use crate::error::Result;
 use crate::joint::JointKind;
 use crate::model::{check_vector, Model};
+use crate::spatial::kernels::{m6_add_assign, m6_rank1_sub, m6v};
 use crate::spatial::{Force, Motion};
 use nalgebra::{DVector, Vector3, Vector6};
 
@@ -40,10 +40,7 @@ pub(crate) fn aba_pass(model: &Model, data: &mut Data, q: &[f64], v: &[f64], tau
         };
         data.li_m_i[i] = li;
         write_joint_columns(model, data, i);
-        let mut vj = Motion::zero();
-        for k in 0..j.nv() {
-            vj += col_motion(&data.j, j.idx_v + k) * v[j.idx_v + k];
-        }
+        let vj = joint_world_twist(data, j, v);
         let ov = match j.parent {
             Some(p) => data.ov[p] + vj,
             None => vj,
@@ -88,9 +85,9 @@ pub(crate) fn aba_pass(model: &Model, data: &mut Data, q: &[f64], v: &[f64], tau
         match j.kind {
             JointKind::FreeFlyer => {
                 // Root free-flyer: I^A a = ᵒX_i^{-T} τ − p^A, then q̈ = ᵒX_i⁻¹ (a − a₀).
-                let tau_w = data.o_m_i[i].act_force(&Force::from_vector(&Vector6::from_column_slice(
-                    &tau[j.idx_v..j.idx_v + 6],
-                )));
+                let tau_w = data.o_m_i[i].act_force(&Force::from_vector(
+                    &Vector6::from_column_slice(&tau[j.idx_v..j.idx_v + 6]),
+                ));
                 let rhs = (tau_w - data.pa[i]).to_vector();
                 // I^A of a body with mass is positive definite; a massless floating tree
                 // has no defined acceleration and gets NaN, which callers can detect.
@@ -100,7 +97,8 @@ pub(crate) fn aba_pass(model: &Model, data: &mut Data, q: &[f64], v: &[f64], tau
                     .unwrap_or_else(|| Vector6::repeat(f64::NAN));
                 let a = Motion::from_vector(&a);
                 let ddq = data.o_m_i[i].act_inv_motion(&(a - a0));
-                data.ddq.as_mut_slice()[j.idx_v..j.idx_v + 6].copy_from_slice(ddq.to_vector().as_slice());
+                data.ddq.as_mut_slice()[j.idx_v..j.idx_v + 6]
+                    .copy_from_slice(ddq.to_vector().as_slice());
                 data.oa[i] = a;
             }
             _ => {
@@ -115,4 +113,3 @@ pub(crate) fn aba_pass(model: &Model, data: &mut Data, q: &[f64], v: &[f64], tau
         }
     }
 }
-

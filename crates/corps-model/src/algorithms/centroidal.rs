@@ -19,7 +19,11 @@ pub(crate) fn fill_from_composites(model: &Model, data: &mut Data) {
             mc += data.composite[i].first_moment;
         }
     }
-    let com = if mass > 0.0 { mc / mass } else { Vector3::zeros() };
+    let com = if mass > 0.0 {
+        mc / mass
+    } else {
+        Vector3::zeros()
+    };
     data.com = com;
     let inv_mass = if mass > 0.0 { 1.0 / mass } else { 0.0 };
     // The composite pass left F_k = Yc S_k (about the world origin) per dof: its linear part
@@ -56,7 +60,12 @@ pub fn jacobian_center_of_mass<'d>(
 }
 
 /// Centroidal momentum h_G = A_G v (`data.hg`); also fills A_G.
-pub fn compute_centroidal_momentum(model: &Model, data: &mut Data, q: &[f64], v: &[f64]) -> Result<Force> {
+pub fn compute_centroidal_momentum(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    v: &[f64],
+) -> Result<Force> {
     check_vector("velocity v", v, model.nv)?;
     compute_centroidal_map(model, data, q)?;
     let mut h = Force::zero();
@@ -70,7 +79,12 @@ pub fn compute_centroidal_momentum(model: &Model, data: &mut Data, q: &[f64], v:
 /// The centroidal momentum drift Ȧ_G v (`data.dag_v`): the rate of change of h_G at zero
 /// joint acceleration, Σ_i ᵒX_i* (I_i a_i + v_i ×* I_i v_i) with q̈ = 0, taken about the CoM.
 /// (The CoM velocity term drops: ċ × m ċ = 0.) Also fills A_G, the CoM and h_G.
-pub fn centroidal_momentum_drift(model: &Model, data: &mut Data, q: &[f64], v: &[f64]) -> Result<Force> {
+pub fn centroidal_momentum_drift(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    v: &[f64],
+) -> Result<Force> {
     compute_centroidal_momentum(model, data, q, v)?;
     motion_pass(model, data, q, Some(v), None);
     let mut rate = Force::zero();
@@ -93,7 +107,8 @@ pub fn center_of_mass(
     a: &[f64],
 ) -> Result<Vector3<f64>> {
     super::kinematics::forward_kinematics(model, data, q, v, a)?;
-    let (mut m, mut c, mut vc, mut ac) = (0.0, Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
+    let (mut m, mut c, mut vc, mut ac) =
+        (0.0, Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
     for i in 0..model.njoints() {
         let inertia = &model.inertias[i];
         let (r, l) = (data.o_m_i[i].rotation, inertia.lever);

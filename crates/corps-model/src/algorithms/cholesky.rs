@@ -54,15 +54,44 @@ pub fn solve_mass_matrix(model: &Model, ltdl: &DMatrix<f64>, b: &mut [f64]) {
     }
 }
 
-/// M(q)⁻¹, full and symmetric, written to and returned from `data.minv`.
+/// M(q)⁻¹, full and symmetric, written to and returned from `data.minv`. Column c solves
+/// M x = e_c; the first sweep (L⁻ᵀ) only touches c and its ancestors, where e_c's image is
+/// non-zero.
 pub fn compute_minverse<'d>(model: &Model, data: &'d mut Data, q: &[f64]) -> Result<&'d DMatrix<f64>> {
     crba(model, data, q)?;
     factorize_mass_matrix(model, data);
-    data.minv.fill(0.0);
-    for c in 0..model.nv {
-        data.minv[(c, c)] = 1.0;
-        let col = &mut data.minv.as_mut_slice()[c * model.nv..(c + 1) * model.nv];
-        solve_mass_matrix(model, &data.ltdl, col);
+    let n = model.nv;
+    let par = &model.dof_parent;
+    let h = data.ltdl.as_slice(); // column-major: L[k, i] = h[i * n + k]
+    for (k, d) in data.tmp_nv.iter_mut().enumerate() {
+        *d = 1.0 / h[k * n + k];
+    }
+    let dinv = data.tmp_nv.as_slice();
+    for (c, col) in data.minv.as_mut_slice().chunks_exact_mut(n).enumerate() {
+        col.fill(0.0);
+        col[c] = 1.0;
+        let mut k = Some(c);
+        while let Some(kk) = k {
+            let bk = col[kk];
+            let mut i = par[kk];
+            while let Some(ii) = i {
+                col[ii] -= h[ii * n + kk] * bk;
+                i = par[ii];
+            }
+            k = par[kk];
+        }
+        for (x, d) in col.iter_mut().zip(dinv) {
+            *x *= d;
+        }
+        for k in 0..n {
+            let mut acc = col[k];
+            let mut i = par[k];
+            while let Some(ii) = i {
+                acc -= h[ii * n + k] * col[ii];
+                i = par[ii];
+            }
+            col[k] = acc;
+        }
     }
     Ok(&data.minv)
 }
@@ -80,8 +109,8 @@ pub fn forward_dynamics_crba<'d>(
     super::rnea::nonlinear_effects(model, data, q, v)?;
     crba(model, data, q)?;
     factorize_mass_matrix(model, data);
-    for k in 0..model.nv {
-        data.ddq[k] = tau[k] - data.nle[k];
+    for ((d, t), h) in data.ddq.iter_mut().zip(tau).zip(data.nle.iter()) {
+        *d = t - h;
     }
     solve_mass_matrix(model, &data.ltdl, data.ddq.as_mut_slice());
     Ok(&data.ddq)

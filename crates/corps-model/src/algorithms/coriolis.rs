@@ -3,12 +3,12 @@
 //! C = Σ_bodies J_bᵀ (I_b J̇_b + B_b J_b), B = ½ (v×* I − I v× + (I v)×̄*), all in the world
 //! frame, accumulated over subtrees like CRBA.
 
-use super::jacobians::write_joint_columns;
+use super::jacobians::{joint_world_twist, write_joint_columns};
 use super::kinematics::placements;
-use crate::spatial::kernels::{m6_add_assign, m6v};
 use crate::data::{col_force, col_motion, set_col, Data};
 use crate::error::Result;
 use crate::model::{check_vector, Model};
+use crate::spatial::kernels::{m6_add_assign, m6v};
 use crate::spatial::{skew, Motion};
 use nalgebra::{DMatrix, Matrix6};
 
@@ -47,10 +47,7 @@ pub fn coriolis_matrix<'d>(
     placements(model, data, q);
     for (i, j) in model.joints.iter().enumerate() {
         write_joint_columns(model, data, i);
-        let mut vj = Motion::zero();
-        for k in j.idx_v..j.idx_v + j.nv() {
-            vj += col_motion(&data.j, k) * v[k];
-        }
+        let vj = joint_world_twist(data, j, v);
         let ov = j.parent.map_or(vj, |p| data.ov[p] + vj);
         data.ov[i] = ov;
         for k in j.idx_v..j.idx_v + j.nv() {
@@ -65,8 +62,14 @@ pub fn coriolis_matrix<'d>(
         let (y, b) = (data.ycrb[i], data.bcrb[i]);
         let (start, nvi) = (j.idx_v, j.nv());
         for k in start..start + nvi {
-            let f = m6v(&y, &col_motion(&data.dj, k).to_vector()) + m6v(&b, &col_motion(&data.j, k).to_vector());
-            set_col(&mut data.f_cols, k, &f.fixed_rows::<3>(0).into(), &f.fixed_rows::<3>(3).into());
+            let f = m6v(&y, &col_motion(&data.dj, k).to_vector())
+                + m6v(&b, &col_motion(&data.j, k).to_vector());
+            set_col(
+                &mut data.f_cols,
+                k,
+                &f.fixed_rows::<3>(0).into(),
+                &f.fixed_rows::<3>(3).into(),
+            );
         }
         for r in start..start + nvi {
             let jr = col_motion(&data.j, r);

@@ -24,7 +24,9 @@ pub(crate) fn composite_pass(model: &Model, data: &mut Data, q: &[f64], with_m: 
     placements(model, data, q);
     for i in 0..model.njoints() {
         write_joint_columns(model, data, i);
-        data.composite[i] = model.inertias[i].transformed(&data.o_m_i[i]).to_origin_form();
+        data.composite[i] = model.inertias[i]
+            .transformed(&data.o_m_i[i])
+            .to_origin_form();
     }
     let nv = model.nv;
     for (i, j) in model.joints.iter().enumerate().rev() {
@@ -51,9 +53,21 @@ pub(crate) fn composite_pass(model: &Model, data: &mut Data, q: &[f64], with_m: 
                 let len = end - r;
                 let column = &mut m[r * nv + r..r * nv + end];
                 let f: [&[f64]; 6] = std::array::from_fn(|k| &ft[k * nv + r..k * nv + end]);
-                let (f0, f1, f2, f3, f4, f5) = (&f[0][..len], &f[1][..len], &f[2][..len], &f[3][..len], &f[4][..len], &f[5][..len]);
+                let (f0, f1, f2, f3, f4, f5) = (
+                    &f[0][..len],
+                    &f[1][..len],
+                    &f[2][..len],
+                    &f[3][..len],
+                    &f[4][..len],
+                    &f[5][..len],
+                );
                 for (c, o) in column[..len].iter_mut().enumerate() {
-                    *o = a[0] * f0[c] + a[1] * f1[c] + a[2] * f2[c] + a[3] * f3[c] + a[4] * f4[c] + a[5] * f5[c];
+                    *o = a[0] * f0[c]
+                        + a[1] * f1[c]
+                        + a[2] * f2[c]
+                        + a[3] * f3[c]
+                        + a[4] * f4[c]
+                        + a[5] * f5[c];
                 }
                 // Mirror onto row r. Entries outside the branch-induced pattern are never
                 // written and stay zero from `Data::new`.

@@ -32,7 +32,9 @@ pub(crate) fn world_subspace(j: &Joint, o_m_i: &Se3, k: usize) -> Motion {
             };
             Motion::new(o_m_i.translation.cross(&w), w)
         }
-        JointKind::Prismatic { axis } => Motion::new(o_m_i.rotation * axis, nalgebra::Vector3::zeros()),
+        JointKind::Prismatic { axis } => {
+            Motion::new(o_m_i.rotation * axis, nalgebra::Vector3::zeros())
+        }
         JointKind::FreeFlyer => {
             let mut e = [0.0; 6];
             e[k] = 1.0;
@@ -49,6 +51,16 @@ pub(crate) fn write_joint_columns(model: &Model, data: &mut Data, i: usize) {
         let s = world_subspace(j, &data.o_m_i[i], k);
         set_col(&mut data.j, j.idx_v + k, &s.linear, &s.angular);
     }
+}
+
+/// The world twist `S_w q̇` of joint `j` from its Jacobian columns (written already).
+#[inline]
+pub(crate) fn joint_world_twist(data: &Data, j: &Joint, v: &[f64]) -> Motion {
+    let mut t = Motion::zero();
+    for (k, vk) in v[j.idx_v..j.idx_v + j.nv()].iter().enumerate() {
+        t += col_motion(&data.j, j.idx_v + k) * *vk;
+    }
+    t
 }
 
 /// All joint Jacobians in the world frame (`data.j`), with the placements.
@@ -130,13 +142,23 @@ pub fn frame_jacobian(
 }
 
 /// Velocity of frame `frame_id` in `rf`, after [`crate::forward_kinematics`].
-pub fn frame_velocity(model: &Model, data: &Data, frame_id: usize, rf: ReferenceFrame) -> Result<Motion> {
+pub fn frame_velocity(
+    model: &Model,
+    data: &Data,
+    frame_id: usize,
+    rf: ReferenceFrame,
+) -> Result<Motion> {
     let (local, o_m_f) = local_frame_quantity(model, data, frame_id, |d, i| d.v[i])?;
     Ok(express_local(&local, &o_m_f, rf))
 }
 
 /// Spatial acceleration of frame `frame_id` in `rf`, after [`crate::forward_kinematics`].
-pub fn frame_acceleration(model: &Model, data: &Data, frame_id: usize, rf: ReferenceFrame) -> Result<Motion> {
+pub fn frame_acceleration(
+    model: &Model,
+    data: &Data,
+    frame_id: usize,
+    rf: ReferenceFrame,
+) -> Result<Motion> {
     let (local, o_m_f) = local_frame_quantity(model, data, frame_id, |d, i| d.a[i])?;
     Ok(express_local(&local, &o_m_f, rf))
 }

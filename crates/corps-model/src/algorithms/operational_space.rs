@@ -39,7 +39,10 @@ pub fn frame_operational_space_inertia(
     }
     data.tmp_6xnv = jac;
     let inv = (inv + inv.transpose()) * 0.5;
-    inv.cholesky()
-        .map(|c| c.inverse())
-        .ok_or_else(|| ModelError::Singular(format!("J M⁻¹ Jᵀ of frame '{}'", model.frames[frame_id].name)))
+    inv.cholesky().map(|c| c.inverse()).ok_or_else(|| {
+        ModelError::Singular(format!(
+            "J M⁻¹ Jᵀ of frame '{}'",
+            model.frames[frame_id].name
+        ))
+    })
 }

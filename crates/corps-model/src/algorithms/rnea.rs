@@ -4,7 +4,7 @@
 use crate::data::Data;
 use crate::error::Result;
 use crate::model::{check_vector, Model};
-use crate::spatial::{Motion, Force};
+use crate::spatial::{Force, Motion};
 
 /// τ = RNEA(q, v, a), written to and returned from `data.tau`.
 pub fn rnea<'d>(

@@ -132,7 +132,14 @@ fn parse_inertial(i: &roxmltree::Node, link: &str, ctx: &str) -> Result<Inertia>
     let t = match child(i, "inertia") {
         Some(t) => {
             let g = |k: &str| scalar_or(&t, k, ctx, 0.0);
-            let (xx, xy, xz, yy, yz, zz) = (g("ixx")?, g("ixy")?, g("ixz")?, g("iyy")?, g("iyz")?, g("izz")?);
+            let (xx, xy, xz, yy, yz, zz) = (
+                g("ixx")?,
+                g("ixy")?,
+                g("ixz")?,
+                g("iyy")?,
+                g("iyz")?,
+                g("izz")?,
+            );
             Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz)
         }
         None => Matrix3::zeros(),
@@ -150,7 +157,11 @@ fn parse_inertial(i: &roxmltree::Node, link: &str, ctx: &str) -> Result<Inertia>
         });
     }
     let r = placement.rotation;
-    Ok(Inertia::new(mass, placement.translation, r * t * r.transpose()))
+    Ok(Inertia::new(
+        mass,
+        placement.translation,
+        r * t * r.transpose(),
+    ))
 }
 
 fn parse_shape(g: &roxmltree::Node, ctx: &str) -> Result<Option<Shape>> {
@@ -215,10 +226,17 @@ fn parse_joint(j: &roxmltree::Node) -> Result<UrdfJoint> {
             })
         }
     };
-    let (mut lower, mut upper, mut velocity, mut effort) =
-        (f64::NEG_INFINITY, f64::INFINITY, f64::INFINITY, f64::INFINITY);
+    let (mut lower, mut upper, mut velocity, mut effort) = (
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::INFINITY,
+    );
     if let Some(l) = child(j, "limit") {
-        if matches!(kind, Some(JointKind::Revolute { .. } | JointKind::Prismatic { .. })) {
+        if matches!(
+            kind,
+            Some(JointKind::Revolute { .. } | JointKind::Prismatic { .. })
+        ) {
             lower = scalar_or(&l, "lower", &ctx, 0.0)?;
             upper = scalar_or(&l, "upper", &ctx, 0.0)?;
         }
@@ -233,7 +251,11 @@ fn parse_joint(j: &roxmltree::Node) -> Result<UrdfJoint> {
     }
     if let Some(m) = child(j, "mimic") {
         // Tolerated and loaded as an independent joint, as Pinocchio does by default.
-        numbers(m.attribute("multiplier").unwrap_or("1"), &ctx, "mimic multiplier")?;
+        numbers(
+            m.attribute("multiplier").unwrap_or("1"),
+            &ctx,
+            "mimic multiplier",
+        )?;
     }
     Ok(UrdfJoint {
         origin: origin(j, &ctx)?,
@@ -292,7 +314,13 @@ impl<'a> TreeBuilder<'a> {
         }
     }
 
-    fn add_joint(&mut self, name: &str, kind: JointKind, parent: Option<usize>, placement: Se3) -> usize {
+    fn add_joint(
+        &mut self,
+        name: &str,
+        kind: JointKind,
+        parent: Option<usize>,
+        placement: Se3,
+    ) -> usize {
         let id = self.out_joints.len();
         self.out_joints.push(Joint {
             name: name.to_string(),
@@ -370,11 +398,18 @@ impl<'a> TreeBuilder<'a> {
                     reason: "no <link>".into(),
                 })
             }
-            [] => return Err(ModelError::NotATree("every link has a parent (a cycle)".into())),
+            [] => {
+                return Err(ModelError::NotATree(
+                    "every link has a parent (a cycle)".into(),
+                ))
+            }
             many => {
                 return Err(ModelError::NotATree(format!(
                     "several root links: {}",
-                    many.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
+                    many.iter()
+                        .map(|s| s.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 )))
             }
         };

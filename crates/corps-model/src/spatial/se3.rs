@@ -60,7 +60,10 @@ impl Se3 {
     #[inline]
     pub fn act_motion(&self, m: &Motion) -> Motion {
         let w = m3v(&self.rotation, &m.angular);
-        Motion::new(m3v(&self.rotation, &m.linear) + self.translation.cross(&w), w)
+        Motion::new(
+            m3v(&self.rotation, &m.linear) + self.translation.cross(&w),
+            w,
+        )
     }
 
     /// Motion from a to b (the inverse action).
@@ -74,7 +77,10 @@ impl Se3 {
     #[inline]
     pub fn act_force(&self, f: &Force) -> Force {
         let fl = m3v(&self.rotation, &f.linear);
-        Force::new(fl, m3v(&self.rotation, &f.angular) + self.translation.cross(&fl))
+        Force::new(
+            fl,
+            m3v(&self.rotation, &f.angular) + self.translation.cross(&fl),
+        )
     }
 
     /// Force from a to b (the inverse action).
@@ -97,7 +103,10 @@ impl Se3 {
 
     /// Whether every entry is finite.
     pub fn is_finite(&self) -> bool {
-        self.rotation.iter().chain(self.translation.iter()).all(|x| x.is_finite())
+        self.rotation
+            .iter()
+            .chain(self.translation.iter())
+            .all(|x| x.is_finite())
     }
 }
 
@@ -105,6 +114,7 @@ impl Mul for Se3 {
     type Output = Se3;
     /// Composition `aMb * bMc = aMc`.
     #[inline]
+    #[allow(clippy::suspicious_arithmetic_impl)]
     fn mul(self, o: Se3) -> Se3 {
         Se3::new(
             m3m3(&self.rotation, &o.rotation),
@@ -116,6 +126,7 @@ impl Mul for Se3 {
 impl Mul<&Se3> for &Se3 {
     type Output = Se3;
     #[inline]
+    #[allow(clippy::suspicious_arithmetic_impl)]
     fn mul(self, o: &Se3) -> Se3 {
         Se3::new(
             m3m3(&self.rotation, &o.rotation),

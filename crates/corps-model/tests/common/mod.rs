@@ -9,7 +9,9 @@ use std::path::PathBuf;
 
 /// Path of a file under the repository root.
 pub fn repo_path(rel: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..").join(rel)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(rel)
 }
 
 pub const TALOS: &str = "robots/talos_data/robots/talos_reduced.urdf";
@@ -32,7 +34,10 @@ pub fn robots() -> Vec<(&'static str, Model)> {
 }
 
 /// A reproducible random state (q, v, a, τ).
-pub fn random_state(model: &Model, seed: u64) -> (DVector<f64>, DVector<f64>, DVector<f64>, DVector<f64>) {
+pub fn random_state(
+    model: &Model,
+    seed: u64,
+) -> (DVector<f64>, DVector<f64>, DVector<f64>, DVector<f64>) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let q = random_configuration(model, &mut rng);
     let mut r = || DVector::from_fn(model.nv, |_, _| rng.gen_range(-1.0..1.0));
@@ -46,6 +51,12 @@ pub fn random_state(model: &Model, seed: u64) -> (DVector<f64>, DVector<f64>, DV
 pub fn assert_close(what: &str, a: &[f64], b: &[f64], tol: f64) {
     assert_eq!(a.len(), b.len(), "{what}: sizes differ");
     let scale = b.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-    let err = a.iter().zip(b).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-    assert!(err <= tol * scale, "{what}: max error {err:.3e} > {tol:.1e} × scale {scale:.3e}");
+    let err = a
+        .iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(
+        err <= tol * scale,
+        "{what}: max error {err:.3e} > {tol:.1e} × scale {scale:.3e}"
+    );
 }
