@@ -7,7 +7,11 @@ mod model_cmd;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
-#[command(name = "corps", version, about = "Whole-body control of humanoid robots")]
+#[command(
+    name = "corps",
+    version,
+    about = "Whole-body control of humanoid robots"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -47,7 +47,11 @@ pub struct RobotArgs {
 pub fn run(cmd: ModelCommand) -> Result<()> {
     match cmd {
         ModelCommand::Inspect { robot, json } => {
-            let model = load_model(robot.urdf.as_deref(), robot.srdf.as_deref(), robot.fixed_base)?;
+            let model = load_model(
+                robot.urdf.as_deref(),
+                robot.srdf.as_deref(),
+                robot.fixed_base,
+            )?;
             if json {
                 println!("{}", serde_json::to_string_pretty(&inspect_json(&model))?);
             } else {
@@ -56,10 +60,15 @@ pub fn run(cmd: ModelCommand) -> Result<()> {
             Ok(())
         }
         ModelCommand::Eval { robot, states } => {
-            let model = load_model(robot.urdf.as_deref(), robot.srdf.as_deref(), robot.fixed_base)?;
-            let text = std::fs::read_to_string(&states).with_context(|| format!("reading {}", states.display()))?;
-            let input: EvalInput =
-                serde_json::from_str(&text).with_context(|| format!("parsing {}", states.display()))?;
+            let model = load_model(
+                robot.urdf.as_deref(),
+                robot.srdf.as_deref(),
+                robot.fixed_base,
+            )?;
+            let text = std::fs::read_to_string(&states)
+                .with_context(|| format!("reading {}", states.display()))?;
+            let input: EvalInput = serde_json::from_str(&text)
+                .with_context(|| format!("parsing {}", states.display()))?;
             let out = evaluate(&model, &input)?;
             println!("{}", serde_json::to_string(&out)?);
             Ok(())
@@ -81,9 +90,20 @@ fn fmt_limit(x: f64) -> String {
 pub fn inspect_text(model: &Model) -> String {
     use std::fmt::Write;
     let mut s = String::new();
-    let _ = writeln!(s, "robot {}: nq = {}, nv = {}, total mass = {:.4} kg", model.name, model.nq, model.nv, model.total_mass());
+    let _ = writeln!(
+        s,
+        "robot {}: nq = {}, nv = {}, total mass = {:.4} kg",
+        model.name,
+        model.nq,
+        model.nv,
+        model.total_mass()
+    );
     let _ = writeln!(s, "\njoints ({}):", model.njoints());
-    let _ = writeln!(s, "  {:<3} {:<26} {:<11} {:>4} {:>4} {:>9} {:>9} {:>8} {:>8}", "#", "name", "type", "q", "v", "lower", "upper", "vel", "effort");
+    let _ = writeln!(
+        s,
+        "  {:<3} {:<26} {:<11} {:>4} {:>4} {:>9} {:>9} {:>8} {:>8}",
+        "#", "name", "type", "q", "v", "lower", "upper", "vel", "effort"
+    );
     for (i, j) in model.joints.iter().enumerate() {
         let (lo, hi, vel, eff) = if j.nq() == 1 {
             (
@@ -98,15 +118,29 @@ pub fn inspect_text(model: &Model) -> String {
         let _ = writeln!(
             s,
             "  {:<3} {:<26} {:<11} {:>4} {:>4} {:>9} {:>9} {:>8} {:>8}",
-            i, j.name, j.kind.short_name(), j.idx_q, j.idx_v, lo, hi, vel, eff
+            i,
+            j.name,
+            j.kind.short_name(),
+            j.idx_q,
+            j.idx_v,
+            lo,
+            hi,
+            vel,
+            eff
         );
     }
     let _ = writeln!(s, "\nframes ({}):", model.frames.len());
     for f in &model.frames {
-        let parent = f.parent_joint.map_or("universe".to_string(), |p| model.joints[p].name.clone());
+        let parent = f
+            .parent_joint
+            .map_or("universe".to_string(), |p| model.joints[p].name.clone());
         let _ = writeln!(s, "  {:<36} {:<12} on {}", f.name, f.kind.as_str(), parent);
     }
-    let _ = writeln!(s, "\nreference configurations ({}):", model.reference_configurations.len());
+    let _ = writeln!(
+        s,
+        "\nreference configurations ({}):",
+        model.reference_configurations.len()
+    );
     for (name, _) in &model.reference_configurations {
         let _ = writeln!(s, "  {name}");
     }
@@ -133,8 +167,10 @@ fn inspect_json(model: &Model) -> serde_json::Value {
     let frames: Vec<_> = model
         .frames
         .iter()
-        .map(|f| serde_json::json!({"name": f.name, "type": f.kind.as_str(),
-            "parent_joint": f.parent_joint.map(|p| model.joints[p].name.clone())}))
+        .map(|f| {
+            serde_json::json!({"name": f.name, "type": f.kind.as_str(),
+            "parent_joint": f.parent_joint.map(|p| model.joints[p].name.clone())})
+        })
         .collect();
     let configs: BTreeMap<_, _> = model
         .reference_configurations
@@ -227,24 +263,55 @@ pub fn evaluate(model: &Model, input: &EvalInput) -> Result<EvalOutput> {
         let tau = s.tau.as_deref().unwrap_or(&zeros);
         let q = s.q.as_slice();
         let m = crba(model, &mut data, q).with_context(ctx)?.clone();
-        let nle = nonlinear_effects(model, &mut data, q, v).with_context(ctx)?.as_slice().to_vec();
-        let g = generalized_gravity(model, &mut data, q).with_context(ctx)?.as_slice().to_vec();
-        let tau_rnea = rnea(model, &mut data, q, v, a).with_context(ctx)?.as_slice().to_vec();
-        let ddq = aba(model, &mut data, q, v, tau).with_context(ctx)?.as_slice().to_vec();
+        let nle = nonlinear_effects(model, &mut data, q, v)
+            .with_context(ctx)?
+            .as_slice()
+            .to_vec();
+        let g = generalized_gravity(model, &mut data, q)
+            .with_context(ctx)?
+            .as_slice()
+            .to_vec();
+        let tau_rnea = rnea(model, &mut data, q, v, a)
+            .with_context(ctx)?
+            .as_slice()
+            .to_vec();
+        let ddq = aba(model, &mut data, q, v, tau)
+            .with_context(ctx)?
+            .as_slice()
+            .to_vec();
         let hg = compute_centroidal_momentum(model, &mut data, q, v).with_context(ctx)?;
-        let (com, jcom, ag) = (data.com.as_slice().to_vec(), rows3(&data.jcom), rows6(&data.ag));
+        let (com, jcom, ag) = (
+            data.com.as_slice().to_vec(),
+            rows3(&data.jcom),
+            rows6(&data.ag),
+        );
         forward_kinematics(model, &mut data, q, v, a).with_context(ctx)?;
         compute_joint_jacobians(model, &mut data, q).with_context(ctx)?;
         let mut frames = BTreeMap::new();
         for (name, fid) in &frame_ids {
             let place = frame_placement(model, &data, *fid)?;
-            frame_jacobian(model, &data, *fid, ReferenceFrame::LocalWorldAligned, &mut jac)?;
-            let acc = frame_classical_acceleration(model, &data, *fid, ReferenceFrame::LocalWorldAligned)?;
+            frame_jacobian(
+                model,
+                &data,
+                *fid,
+                ReferenceFrame::LocalWorldAligned,
+                &mut jac,
+            )?;
+            let acc = frame_classical_acceleration(
+                model,
+                &data,
+                *fid,
+                ReferenceFrame::LocalWorldAligned,
+            )?;
             frames.insert(
                 name.clone(),
                 FrameResult {
                     translation: place.translation.as_slice().to_vec(),
-                    rotation: place.rotation.row_iter().map(|r| r.iter().copied().collect()).collect(),
+                    rotation: place
+                        .rotation
+                        .row_iter()
+                        .map(|r| r.iter().copied().collect())
+                        .collect(),
                     J_lwa: rows6(&jac),
                     classical_acc_lwa: acc.to_vector().as_slice().to_vec(),
                 },
@@ -266,5 +333,10 @@ pub fn evaluate(model: &Model, input: &EvalInput) -> Result<EvalOutput> {
     if results.is_empty() {
         bail!("no states in the input");
     }
-    Ok(EvalOutput { nq: model.nq, nv: model.nv, mass: model.total_mass(), results })
+    Ok(EvalOutput {
+        nq: model.nq,
+        nv: model.nv,
+        mass: model.total_mass(),
+        results,
+    })
 }

@@ -1,0 +1,144 @@
+//! The `corps` command end to end: `model inspect`, `model eval` against Pinocchio's golden
+//! values, and one-line errors with a non-zero exit status.
+
+use serde_json::{json, Value};
+use std::process::Command;
+
+fn corps(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_corps"))
+        .args(args)
+        .output()
+        .expect("runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn repo(rel: &str) -> String {
+    format!("{}/../../{}", env!("CARGO_MANIFEST_DIR"), rel)
+}
+
+fn flat(v: &Value) -> Vec<f64> {
+    match v {
+        Value::Array(a) => a.iter().flat_map(flat).collect(),
+        Value::Number(n) => vec![n.as_f64().unwrap()],
+        other => panic!("unexpected {other}"),
+    }
+}
+
+fn assert_close(what: &str, a: &[f64], b: &[f64]) {
+    assert_eq!(a.len(), b.len(), "{what}: sizes");
+    let scale = b.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+    let err = a
+        .iter()
+        .zip(b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(err <= 1e-9 * scale, "{what}: error {err:e}");
+}
+
+#[test]
+fn inspect_describes_the_default_robot() {
+    let (ok, out, _) = corps(&["model", "inspect"]);
+    assert!(ok);
+    assert!(
+        out.contains("nq = 39, nv = 38, total mass = 90.2722 kg"),
+        "{out}"
+    );
+    assert!(out.contains("leg_left_4_joint") && out.contains("half_sitting"));
+    let (ok, out, _) = corps(&["model", "inspect", "--json"]);
+    assert!(ok);
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["joints"].as_array().unwrap().len(), 33);
+}
+
+#[test]
+fn eval_matches_pinocchio_golden_values() {
+    let golden: Value = serde_json::from_str(
+        &std::fs::read_to_string(repo("crates/corps-model/tests/golden/talos.json")).unwrap(),
+    )
+    .unwrap();
+    let frames = [
+        "leg_left_sole_fix_joint",
+        "arm_left_7_joint",
+        "torso_2_link",
+    ];
+    let states: Vec<Value> = golden["states"].as_array().unwrap()[..3]
+        .iter()
+        .map(|s| json!({"q": s["q"], "v": s["v"], "a": s["a"], "tau": s["tau"]}))
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("states.json");
+    std::fs::write(
+        &input,
+        json!({"frames": frames, "states": states}).to_string(),
+    )
+    .unwrap();
+    let (ok, out, err) = corps(&[
+        "model",
+        "eval",
+        "--urdf",
+        &repo("robots/talos_data/robots/talos_reduced.urdf"),
+        "--states",
+        input.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    assert_eq!((v["nq"].as_u64(), v["nv"].as_u64()), (Some(39), Some(38)));
+    for (k, r) in v["results"].as_array().unwrap().iter().enumerate() {
+        let g = &golden["states"][k];
+        for (ours, theirs) in [
+            ("M", "M"),
+            ("nle", "nle"),
+            ("g", "g"),
+            ("rnea", "rnea"),
+            ("aba", "aba"),
+            ("com", "com"),
+            ("Jcom", "Jcom"),
+            ("Ag", "Ag"),
+            ("hg", "hg"),
+        ] {
+            assert_close(
+                &format!("state {k} {ours}"),
+                &flat(&r[ours]),
+                &flat(&g[theirs]),
+            );
+        }
+        for f in frames {
+            for key in ["translation", "rotation", "J_lwa", "classical_acc_lwa"] {
+                assert_close(
+                    &format!("state {k} {f} {key}"),
+                    &flat(&r["frames"][f][key]),
+                    &flat(&g["frames"][f][key]),
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn errors_are_one_line_and_exit_non_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            json!({"states": [{"q": [1.0, 2.0]}]}),
+            "configuration q has size 2, expected 39",
+        ),
+        (
+            json!({"frames": ["nope"], "states": []}),
+            "unknown frame 'nope'",
+        ),
+        (json!({"frame": [], "states": []}), "unknown field `frame`"),
+    ];
+    for (k, (input, expected)) in cases.iter().enumerate() {
+        let p = dir.path().join(format!("bad{k}.json"));
+        std::fs::write(&p, input.to_string()).unwrap();
+        let (ok, out, err) = corps(&["model", "eval", "--states", p.to_str().unwrap()]);
+        assert!(!ok && out.is_empty(), "case {k} should fail");
+        assert_eq!(err.lines().count(), 1, "one line: {err}");
+        assert!(err.contains(expected), "case {k}: {err}");
+    }
+    let (ok, _, err) = corps(&["model", "inspect", "--urdf", "/nonexistent.urdf"]);
+    assert!(!ok && err.contains("/nonexistent.urdf"));
+}
