@@ -36,7 +36,8 @@ pub struct Data {
     pub g: DVector<f64>,
     /// Joint accelerations from ABA.
     pub ddq: DVector<f64>,
-    /// Joint-space inertia matrix M(q) (full, symmetric).
+    /// Joint-space inertia matrix M(q) (full, symmetric). Entries coupling two dofs on
+    /// different branches are zero; CRBA never writes them, so they stay as `Data::new` left them.
     pub m: DMatrix<f64>,
     /// M(q)⁻¹.
     pub minv: DMatrix<f64>,
@@ -56,8 +57,6 @@ pub struct Data {
     pub bcrb: Vec<Matrix6<f64>>,
     /// Per-dof spatial forces (CRBA `Ycrb S`, ABA `U`, Coriolis `Ycrb J̇ + Bcrb J`).
     pub f_cols: Matrix6xX<f64>,
-    /// CRBA: `Ycrb S` per dof, transposed (nv × 6) so that each component is contiguous.
-    pub f_t: DMatrix<f64>,
     /// ABA bias forces, world frame.
     pub pa: Vec<Force>,
     /// ABA: 1/D per dof.
@@ -116,7 +115,6 @@ impl Data {
             bcrb: vec![Matrix6::zeros(); n],
             composite: vec![OriginInertia::default(); n],
             f_cols: Matrix6xX::zeros(nv),
-            f_t: DMatrix::zeros(nv, 6),
             pa: vec![Force::zero(); n],
             d_inv: DVector::zeros(nv),
             u: DVector::zeros(nv),

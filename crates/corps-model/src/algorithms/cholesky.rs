@@ -57,7 +57,11 @@ pub fn solve_mass_matrix(model: &Model, ltdl: &DMatrix<f64>, b: &mut [f64]) {
 /// M(q)⁻¹, full and symmetric, written to and returned from `data.minv`. Column c solves
 /// M x = e_c; the first sweep (L⁻ᵀ) only touches c and its ancestors, where e_c's image is
 /// non-zero.
-pub fn compute_minverse<'d>(model: &Model, data: &'d mut Data, q: &[f64]) -> Result<&'d DMatrix<f64>> {
+pub fn compute_minverse<'d>(
+    model: &Model,
+    data: &'d mut Data,
+    q: &[f64],
+) -> Result<&'d DMatrix<f64>> {
     crba(model, data, q)?;
     factorize_mass_matrix(model, data);
     let n = model.nv;

@@ -34,45 +34,22 @@ pub(crate) fn composite_pass(model: &Model, data: &mut Data, q: &[f64], with_m: 
         for k in j.idx_v..j.idx_v + j.nv() {
             let f = y.mul_motion(&col_motion(&data.j, k));
             set_col(&mut data.f_cols, k, &f.linear, &f.angular);
-            if with_m {
-                let ft = &mut data.f_t.as_mut_slice()[k..];
-                let (l, a) = (&f.linear, &f.angular);
-                (ft[0], ft[nv], ft[2 * nv]) = (l.x, l.y, l.z);
-                (ft[3 * nv], ft[4 * nv], ft[5 * nv]) = (a.x, a.y, a.z);
-            }
         }
         if with_m {
-            // Lower triangle, column by column: M[c, r] = Σ_k J_r[k] F_c[k] for c in the
-            // subtree, over the transposed forces (contiguous in c).
+            // Row r over the subtree: M[r, c] = J_rᵀ F_c, written to both triangles.
             let (start, end) = (j.idx_v, j.idx_v + model.subtree_nv[i]);
             let jc = data.j.as_slice();
-            let ft = data.f_t.as_slice();
             let m = data.m.as_mut_slice();
+            let fc = data.f_cols.as_slice();
             for r in start..start + j.nv() {
-                let a = &jc[6 * r..6 * r + 6];
-                let len = end - r;
-                let column = &mut m[r * nv + r..r * nv + end];
-                let f: [&[f64]; 6] = std::array::from_fn(|k| &ft[k * nv + r..k * nv + end]);
-                let (f0, f1, f2, f3, f4, f5) = (
-                    &f[0][..len],
-                    &f[1][..len],
-                    &f[2][..len],
-                    &f[3][..len],
-                    &f[4][..len],
-                    &f[5][..len],
-                );
-                for (c, o) in column[..len].iter_mut().enumerate() {
-                    *o = a[0] * f0[c]
-                        + a[1] * f1[c]
-                        + a[2] * f2[c]
-                        + a[3] * f3[c]
-                        + a[4] * f4[c]
-                        + a[5] * f5[c];
-                }
-                // Mirror onto row r. Entries outside the branch-induced pattern are never
-                // written and stay zero from `Data::new`.
-                for c in r + 1..end {
-                    m[c * nv + r] = m[r * nv + c];
+                let a: &[f64; 6] = jc[6 * r..6 * r + 6].try_into().expect("6 entries");
+                for c in r..end {
+                    let f: &[f64; 6] = fc[6 * c..6 * c + 6].try_into().expect("6 entries");
+                    let x = (a[0] * f[0] + a[1] * f[1])
+                        + (a[2] * f[2] + a[3] * f[3])
+                        + (a[4] * f[4] + a[5] * f[5]);
+                    m[r * nv + c] = x;
+                    m[c * nv + r] = x;
                 }
             }
         }
