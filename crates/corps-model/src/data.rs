@@ -57,6 +57,8 @@ pub struct Data {
     pub bcrb: Vec<Matrix6<f64>>,
     /// Per-dof spatial forces (CRBA `Ycrb S`, ABA `U`, Coriolis `Ycrb J̇ + Bcrb J`).
     pub f_cols: Matrix6xX<f64>,
+    /// External wrenches on each joint's body, world frame (ABA with external forces).
+    pub fext: Vec<Force>,
     /// ABA bias forces, world frame.
     pub pa: Vec<Force>,
     /// ABA: 1/D per dof.
@@ -115,6 +117,7 @@ impl Data {
             bcrb: vec![Matrix6::zeros(); n],
             composite: vec![OriginInertia::default(); n],
             f_cols: Matrix6xX::zeros(nv),
+            fext: vec![Force::zero(); n],
             pa: vec![Force::zero(); n],
             d_inv: DVector::zeros(nv),
             u: DVector::zeros(nv),

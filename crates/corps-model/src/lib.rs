@@ -39,7 +39,7 @@ mod model;
 pub mod parse;
 pub mod spatial;
 
-pub use algorithms::aba::aba;
+pub use algorithms::aba::{aba, aba_with_external_forces};
 pub use algorithms::all_terms::compute_all_terms;
 pub use algorithms::centroidal::{
     center_of_mass, centroidal_momentum_drift, compute_centroidal_map, compute_centroidal_momentum,

@@ -456,3 +456,60 @@ fn configuration_space_operations_are_consistent() {
         }
     }
 }
+
+#[test]
+fn external_wrenches_act_through_the_jacobian_transpose() {
+    for (name, model) in robots() {
+        let mut data = Data::new(&model);
+        let (q, v, _, tau) = random_state(&model, 21);
+        // World wrenches (moment about the world origin) on every third body.
+        let wrench = |i: usize| {
+            let s = i as f64;
+            spatial::Force::new(
+                nalgebra::Vector3::new(10.0 + s, -3.0 * s, 2.0),
+                nalgebra::Vector3::new(0.5, s.sin(), -1.0),
+            )
+        };
+        let a_ext = aba_with_external_forces(
+            &model,
+            &mut data,
+            q.as_slice(),
+            v.as_slice(),
+            tau.as_slice(),
+            |_, _, f| {
+                for (i, fi) in f.iter_mut().enumerate().step_by(3) {
+                    *fi = wrench(i);
+                }
+            },
+        )
+        .unwrap()
+        .clone();
+        compute_joint_jacobians(&model, &mut data, q.as_slice()).unwrap();
+        let mut tau_total = tau.clone();
+        for i in (0..model.njoints()).step_by(3) {
+            let f = wrench(i).to_vector();
+            let mut j = Some(i);
+            while let Some(k) = j {
+                let jk = &model.joints[k];
+                for d in jk.idx_v..jk.idx_v + jk.nv() {
+                    tau_total[d] += data.j.column(d).dot(&f);
+                }
+                j = jk.parent;
+            }
+        }
+        let a_ref = forward_dynamics_crba(
+            &model,
+            &mut data,
+            q.as_slice(),
+            v.as_slice(),
+            tau_total.as_slice(),
+        )
+        .unwrap();
+        assert_close(
+            &format!("{name} ABA with external wrenches"),
+            a_ext.as_slice(),
+            a_ref.as_slice(),
+            1e-9,
+        );
+    }
+}

@@ -12,7 +12,7 @@ use crate::error::Result;
 use crate::joint::JointKind;
 use crate::model::{check_vector, Model};
 use crate::spatial::kernels::{m6_add_assign, m6_rank1_sub, m6v};
-use crate::spatial::{Force, Motion};
+use crate::spatial::{Force, Motion, Se3};
 use nalgebra::{DVector, Vector3, Vector6};
 
 /// q̈ = ABA(q, v, τ), written to and returned from `data.ddq`.
@@ -26,11 +26,42 @@ pub fn aba<'d>(
     model.check_configuration(q)?;
     check_vector("velocity v", v, model.nv)?;
     check_vector("torque tau", tau, model.nv)?;
-    aba_pass(model, data, q, v, tau);
+    aba_pass(model, data, q, v, tau, |_, _, _| {});
     Ok(&data.ddq)
 }
 
-pub(crate) fn aba_pass(model: &Model, data: &mut Data, q: &[f64], v: &[f64], tau: &[f64]) {
+/// q̈ = ABA(q, v, τ, f_ext) with external wrenches on the bodies. After the first pass has
+/// placed the bodies, `external(o_m_i, ov, f_ext)` is called with every joint's world
+/// placement and world twist and a zeroed buffer of world-frame wrenches (moment about the
+/// world origin), one per joint body, to fill. Used by the simulator for contact forces.
+pub fn aba_with_external_forces<'d, F>(
+    model: &Model,
+    data: &'d mut Data,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+    external: F,
+) -> Result<&'d DVector<f64>>
+where
+    F: FnMut(&[Se3], &[Motion], &mut [Force]),
+{
+    model.check_configuration(q)?;
+    check_vector("velocity v", v, model.nv)?;
+    check_vector("torque tau", tau, model.nv)?;
+    aba_pass(model, data, q, v, tau, external);
+    Ok(&data.ddq)
+}
+
+pub(crate) fn aba_pass<F>(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+    mut external: F,
+) where
+    F: FnMut(&[Se3], &[Motion], &mut [Force]),
+{
     // Forward: placements, world twists, bias accelerations and forces, body inertias.
     for (i, j) in model.joints.iter().enumerate() {
         let li = j.kind.placed_transform(&j.placement, &q[j.idx_q..]);
@@ -50,6 +81,11 @@ pub(crate) fn aba_pass(model: &Model, data: &mut Data, q: &[f64], v: &[f64], tau
         let oi = model.inertias[i].transformed(&data.o_m_i[i]);
         data.pa[i] = ov.cross_force(&oi.mul_motion(&ov));
         oi.write_matrix(&mut data.bcrb[i]);
+    }
+    data.fext.iter_mut().for_each(|f| *f = Force::zero());
+    external(&data.o_m_i, &data.ov, &mut data.fext);
+    for (pa, f) in data.pa.iter_mut().zip(&data.fext) {
+        *pa -= *f;
     }
     // Backward: articulated inertias (held in data.bcrb) and bias forces.
     for (i, j) in model.joints.iter().enumerate().rev() {
