@@ -1,0 +1,299 @@
+//! Sensors, as ground truth and as measured (Gaussian noise and a constant bias per channel,
+//! from a seeded generator, so every run is reproducible): joint encoders, joint velocities,
+//! joint torques, 6-axis force/torque sensors, an IMU, the base pose and twist, and the contact
+//! wrench on each body.
+
+use crate::actuation::first_actuated;
+use crate::error::{Result, SimError};
+use crate::simulator::Simulator;
+use corps_model::spatial::{exp6, rotation, Force, Motion, Se3};
+use corps_model::{JointKind, Model};
+use nalgebra::{DVector, Vector3};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+use serde::{Deserialize, Serialize};
+
+/// Noise of one channel: standard deviation and constant bias, in the channel's unit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Noise {
+    pub std: f64,
+    pub bias: f64,
+}
+
+/// Noise of every channel; all zero by default.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SensorNoise {
+    pub encoders: Noise,
+    pub joint_velocities: Noise,
+    pub joint_torques: Noise,
+    pub force: Noise,
+    pub torque: Noise,
+    pub imu_orientation: Noise,
+    pub imu_angular_velocity: Noise,
+    pub imu_linear_acceleration: Noise,
+    pub base_position: Noise,
+    pub base_orientation: Noise,
+    pub base_linear_velocity: Noise,
+    pub base_angular_velocity: Noise,
+}
+
+/// Where the sensors are: F/T sensor frames (name → frame) and the IMU frame.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SensorLayout {
+    /// Named force/torque sensors and the frame each measures in.
+    pub force_torque: Vec<(String, String)>,
+    /// Frame of the IMU (None: the root body).
+    pub imu: Option<String>,
+}
+
+impl Default for SensorLayout {
+    /// TALOS: ankle sensors at the sole frames, wrist sensors at the F/T links, IMU on the torso.
+    fn default() -> Self {
+        Self {
+            force_torque: vec![
+                ("left_ankle".into(), "leg_left_sole_fix_joint".into()),
+                ("right_ankle".into(), "leg_right_sole_fix_joint".into()),
+                ("left_wrist".into(), "wrist_left_ft_link".into()),
+                ("right_wrist".into(), "wrist_right_ft_link".into()),
+            ],
+            imu: Some("imu_link".into()),
+        }
+    }
+}
+
+/// An IMU reading: orientation of the IMU frame in the world (quaternion x, y, z, w), angular
+/// velocity and proper linear acceleration (specific force), both in the IMU frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct ImuReading {
+    pub orientation: [f64; 4],
+    pub angular_velocity: [f64; 3],
+    pub linear_acceleration: [f64; 3],
+}
+
+/// All readings at one instant.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Readings {
+    pub time: f64,
+    /// Joint positions (angles; continuous joints unwrapped to an angle), size na.
+    pub joint_positions: DVector<f64>,
+    pub joint_velocities: DVector<f64>,
+    /// Applied (clamped) joint torques.
+    pub joint_torques: DVector<f64>,
+    /// Wrench measured by each F/T sensor, in its frame, moment about its origin:
+    /// [fx, fy, fz, tx, ty, tz]. It is the contact wrench on the sensor's body.
+    pub force_torque: Vec<[f64; 6]>,
+    pub imu: ImuReading,
+    /// Base position and orientation (x, y, z, qx, qy, qz, qw); zeros for a fixed base.
+    pub base_pose: [f64; 7],
+    /// Base twist in the base frame [linear; angular].
+    pub base_twist: [f64; 6],
+    /// Contact wrench on each joint's body, world frame, moment about the world origin.
+    pub contact_wrenches: Vec<[f64; 6]>,
+}
+
+/// Reads the simulator's sensors.
+pub struct Sensors {
+    layout: Vec<(String, usize, Se3)>,
+    imu: (usize, Se3),
+    noise: SensorNoise,
+    rng: ChaCha8Rng,
+    truth: Readings,
+    measured: Readings,
+}
+
+impl Sensors {
+    /// Sensors for `model` with `layout` and `noise`, seeded with `seed`. Unknown frames are an
+    /// error naming the sensor.
+    pub fn new(
+        model: &Model,
+        layout: &SensorLayout,
+        noise: SensorNoise,
+        seed: u64,
+    ) -> Result<Self> {
+        let place = |name: &str, frame: &str| -> Result<(usize, Se3)> {
+            let fid = model.frame_id(frame).map_err(|e| SimError::Setting {
+                name: format!("sensor '{name}'"),
+                reason: e.to_string(),
+            })?;
+            let f = &model.frames[fid];
+            let joint = f.parent_joint.ok_or_else(|| SimError::Setting {
+                name: format!("sensor '{name}'"),
+                reason: "frame fixed to the world".into(),
+            })?;
+            Ok((joint, f.placement))
+        };
+        let mut ft = Vec::new();
+        for (name, frame) in &layout.force_torque {
+            let (j, p) = place(name, frame)?;
+            ft.push((name.clone(), j, p));
+        }
+        let imu = match &layout.imu {
+            Some(frame) => place("imu", frame)?,
+            None => (0, Se3::identity()),
+        };
+        for (name, x) in [
+            ("encoders", noise.encoders),
+            ("force", noise.force),
+            ("imu_orientation", noise.imu_orientation),
+        ] {
+            if !(x.std >= 0.0 && x.std.is_finite() && x.bias.is_finite()) {
+                return Err(SimError::Setting {
+                    name: format!("noise.{name}"),
+                    reason: "std must be ≥ 0 and finite".into(),
+                });
+            }
+        }
+        Ok(Self {
+            layout: ft,
+            imu,
+            noise,
+            rng: ChaCha8Rng::seed_from_u64(seed),
+            truth: Readings::default(),
+            measured: Readings::default(),
+        })
+    }
+
+    /// Names of the F/T sensors, in reading order.
+    pub fn force_torque_names(&self) -> impl Iterator<Item = &str> {
+        self.layout.iter().map(|(n, _, _)| n.as_str())
+    }
+
+    /// Ground truth at the simulator's current state.
+    pub fn truth(&self) -> &Readings {
+        &self.truth
+    }
+
+    /// Measured values (truth + noise + bias), drawn once per `update`.
+    pub fn measured(&self) -> &Readings {
+        &self.measured
+    }
+
+    /// Reads the simulator (call after each step).
+    pub fn update(&mut self, sim: &Simulator) {
+        let model = sim.model();
+        let (q, v, data) = (sim.q(), sim.v(), sim.data());
+        let first = first_actuated(model);
+        let na = model.nv - first;
+        let t = &mut self.truth;
+        t.time = sim.time();
+        t.joint_positions = DVector::zeros(na);
+        for j in &model.joints {
+            if j.idx_v < first {
+                continue;
+            }
+            let k = j.idx_v - first;
+            t.joint_positions[k] = match j.kind {
+                JointKind::RevoluteUnbounded { .. } => q[j.idx_q + 1].atan2(q[j.idx_q]),
+                _ => q[j.idx_q],
+            };
+        }
+        t.joint_velocities = v.rows(first, na).into_owned();
+        t.joint_torques = sim.applied_torques().rows(first, na).into_owned();
+        let wrenches = &sim.contact().body_wrenches;
+        t.force_torque = self
+            .layout
+            .iter()
+            .map(|(_, joint, placement)| {
+                let o_m_s = data.o_m_i[*joint] * *placement;
+                let w = o_m_s.act_inv_force(&wrenches[*joint]);
+                force6(&w)
+            })
+            .collect();
+        t.contact_wrenches = wrenches.iter().map(force6).collect();
+        // IMU: proper acceleration of its point. ABA's world accelerations already hold −g.
+        let (ij, ip) = self.imu;
+        let o_m_imu = data.o_m_i[ij] * ip;
+        let (ov, oa): (Motion, Motion) = (data.ov[ij], data.oa[ij]);
+        let p = o_m_imu.translation;
+        let vp = ov.point_velocity(&p);
+        let acc = oa.point_velocity(&p) + ov.angular.cross(&vp);
+        let r = o_m_imu.rotation;
+        t.imu = ImuReading {
+            orientation: rotation::matrix_to_quat(&r),
+            angular_velocity: (r.transpose() * ov.angular).into(),
+            linear_acceleration: (r.transpose() * acc).into(),
+        };
+        if model.has_free_flyer() {
+            t.base_pose.copy_from_slice(&q.as_slice()[..7]);
+            t.base_twist.copy_from_slice(&v.as_slice()[..6]);
+        }
+        self.measured = self.truth.clone();
+        self.add_noise();
+    }
+
+    fn add_noise(&mut self) {
+        let n = self.noise.clone();
+        let rng = &mut self.rng;
+        let mut draw = |x: &mut f64, c: Noise| {
+            if c.std > 0.0 {
+                *x += Normal::new(0.0, c.std)
+                    .map(|d| d.sample(rng))
+                    .unwrap_or(0.0);
+            }
+            *x += c.bias;
+        };
+        let m = &mut self.measured;
+        m.joint_positions
+            .iter_mut()
+            .for_each(|x| draw(x, n.encoders));
+        m.joint_velocities
+            .iter_mut()
+            .for_each(|x| draw(x, n.joint_velocities));
+        m.joint_torques
+            .iter_mut()
+            .for_each(|x| draw(x, n.joint_torques));
+        for w in &mut m.force_torque {
+            w[..3].iter_mut().for_each(|x| draw(x, n.force));
+            w[3..].iter_mut().for_each(|x| draw(x, n.torque));
+        }
+        m.imu
+            .angular_velocity
+            .iter_mut()
+            .for_each(|x| draw(x, n.imu_angular_velocity));
+        m.imu
+            .linear_acceleration
+            .iter_mut()
+            .for_each(|x| draw(x, n.imu_linear_acceleration));
+        m.imu.orientation = perturb_quat(m.imu.orientation, n.imu_orientation, &mut draw);
+        m.base_pose[..3]
+            .iter_mut()
+            .for_each(|x| draw(x, n.base_position));
+        let q: [f64; 4] = m.base_pose[3..].try_into().unwrap_or([0.0, 0.0, 0.0, 1.0]);
+        if q != [0.0; 4] {
+            m.base_pose[3..].copy_from_slice(&perturb_quat(q, n.base_orientation, &mut draw));
+        }
+        m.base_twist[..3]
+            .iter_mut()
+            .for_each(|x| draw(x, n.base_linear_velocity));
+        m.base_twist[3..]
+            .iter_mut()
+            .for_each(|x| draw(x, n.base_angular_velocity));
+    }
+}
+
+fn force6(f: &Force) -> [f64; 6] {
+    [
+        f.linear.x,
+        f.linear.y,
+        f.linear.z,
+        f.angular.x,
+        f.angular.y,
+        f.angular.z,
+    ]
+}
+
+/// Rotates quaternion `q` by a small random rotation whose components have the channel's noise.
+fn perturb_quat(q: [f64; 4], c: Noise, draw: &mut impl FnMut(&mut f64, Noise)) -> [f64; 4] {
+    if c.std == 0.0 && c.bias == 0.0 {
+        return q;
+    }
+    let mut w = [0.0; 3];
+    w.iter_mut().for_each(|x| draw(x, c));
+    let r = rotation::quat_to_matrix(q[0], q[1], q[2], q[3])
+        * exp6(&Motion::new(Vector3::zeros(), Vector3::from(w))).rotation;
+    rotation::matrix_to_quat(&r)
+}

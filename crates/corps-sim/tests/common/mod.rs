@@ -1,0 +1,61 @@
+//! Shared helpers of the simulator tests.
+#![allow(dead_code)]
+
+use corps_model::{
+    build_model_from_urdf_file, build_model_from_urdf_str, load_reference_configurations, Model,
+    RootJoint,
+};
+use corps_sim::*;
+use nalgebra::DVector;
+use std::sync::Arc;
+
+pub fn repo(rel: &str) -> String {
+    format!("{}/../../{}", env!("CARGO_MANIFEST_DIR"), rel)
+}
+
+/// TALOS with box feet and its SRDF reference configurations.
+pub fn talos() -> Arc<Model> {
+    let mut m = build_model_from_urdf_file(
+        repo("robots/talos_data/robots/talos_reduced_box.urdf"),
+        RootJoint::FreeFlyer,
+    )
+    .unwrap();
+    load_reference_configurations(&mut m, repo("robots/talos_data/srdf/talos.srdf")).unwrap();
+    Arc::new(m)
+}
+
+/// A single box body (free-flyer) of mass `m` and sides `size`.
+pub fn box_body(m: f64, size: [f64; 3]) -> Arc<Model> {
+    let [a, b, c] = size;
+    let (ixx, iyy, izz) = (
+        m * (b * b + c * c) / 12.0,
+        m * (a * a + c * c) / 12.0,
+        m * (a * a + b * b) / 12.0,
+    );
+    let urdf = format!(
+        r#"<robot name="block"><link name="block"><inertial><mass value="{m}"/>
+        <inertia ixx="{ixx}" iyy="{iyy}" izz="{izz}" ixy="0" ixz="0" iyz="0"/></inertial>
+        <collision><geometry><box size="{a} {b} {c}"/></geometry></collision></link></robot>"#
+    );
+    Arc::new(build_model_from_urdf_str(&urdf, RootJoint::FreeFlyer).unwrap())
+}
+
+pub fn no_gains(model: &Model) -> ServoGains {
+    let na = model.nv - first_actuated(model);
+    ServoGains {
+        kp: DVector::zeros(na),
+        kd: DVector::zeros(na),
+    }
+}
+
+pub fn zero_torque(model: &Model) -> Command {
+    Command::Torque(DVector::zeros(model.nv - first_actuated(model)))
+}
+
+/// Position command holding configuration `q`.
+pub fn hold(model: &Model, q: &DVector<f64>) -> Command {
+    Command::Position {
+        q_ref: q.clone(),
+        v_ref: DVector::zeros(model.nv - first_actuated(model)),
+    }
+}
