@@ -1,0 +1,334 @@
+//! Hierarchical (lexicographic) QP with strict priorities, solved as a cascade of QPs with
+//! slack variables, as the Stack of Tasks and OpenSoT do.
+//!
+//! Level `k` has equality tasks `A_k x = b_k` and inequality tasks `l_k ≤ C_k x ≤ u_k`, each
+//! row with a positive weight (several tasks with different weights can share a level: a
+//! weighted level inside a priority). Level `k` solves
+//!
+//! ```text
+//! minimize over (x, v)   ½ ‖A_k x − b_k‖²_W + ½ ‖v‖²_W + ½ ε ‖x‖²
+//! subject to             l_k ≤ C_k x − v ≤ u_k                       (v: inequality slacks)
+//!                        A_j x = A_j x*_j  for every level j < k       (achieved residual kept)
+//!                        C_j x within [l_j, u_j] widened by v*_j, j < k (achieved violation kept)
+//!                        lx ≤ x ≤ ux                                    (hard bounds)
+//! ```
+//!
+//! where `x*_j`, `v*_j` are level j's solution. An upper level's task error is therefore held
+//! exactly (to rounding) by every level below it: a lower level can only use the freedom the
+//! upper ones leave. ε (`regularization`, default 1e-9) keeps each level's Hessian positive
+//! definite; at the last level it selects the smallest-norm `x` among the remaining freedom.
+
+use nalgebra::{DMatrix, DVector};
+use thiserror::Error;
+
+use crate::active_set::ActiveSetSolver;
+use crate::problem::{QpProblem, Settings};
+use crate::status::QpError;
+
+/// One priority level: stacked equality and inequality task rows with per-row weights.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Level {
+    /// Equality task matrix (`r_eq × n`).
+    pub a: DMatrix<f64>,
+    /// Equality task target (`r_eq`).
+    pub b: DVector<f64>,
+    /// Weight of each equality row (`r_eq`, positive).
+    pub eq_weights: DVector<f64>,
+    /// Inequality task matrix (`r_in × n`).
+    pub c: DMatrix<f64>,
+    /// Lower bounds of `C x` (`r_in`, may be −∞).
+    pub l: DVector<f64>,
+    /// Upper bounds of `C x` (`r_in`, may be +∞).
+    pub u: DVector<f64>,
+    /// Weight of each inequality row (`r_in`, positive).
+    pub in_weights: DVector<f64>,
+}
+
+impl Level {
+    /// An empty level for `n` variables.
+    pub fn new(n: usize) -> Self {
+        Self {
+            a: DMatrix::zeros(0, n),
+            b: DVector::zeros(0),
+            eq_weights: DVector::zeros(0),
+            c: DMatrix::zeros(0, n),
+            l: DVector::zeros(0),
+            u: DVector::zeros(0),
+            in_weights: DVector::zeros(0),
+        }
+    }
+
+    /// Append an equality task `a x = b` with `weight` (setup-time; allocates).
+    pub fn with_equality(mut self, a: &DMatrix<f64>, b: &DVector<f64>, weight: f64) -> Self {
+        let (r0, r) = (self.a.nrows(), a.nrows());
+        self.a = self.a.clone().resize_vertically(r0 + r, 0.0);
+        self.a.rows_mut(r0, r).copy_from(a);
+        self.b = append(&self.b, b);
+        self.eq_weights = append(&self.eq_weights, &DVector::from_element(r, weight));
+        self
+    }
+
+    /// Append an inequality task `l ≤ c x ≤ u` with `weight` (setup-time; allocates).
+    pub fn with_inequality(
+        mut self,
+        c: &DMatrix<f64>,
+        l: &DVector<f64>,
+        u: &DVector<f64>,
+        weight: f64,
+    ) -> Self {
+        let (r0, r) = (self.c.nrows(), c.nrows());
+        self.c = self.c.clone().resize_vertically(r0 + r, 0.0);
+        self.c.rows_mut(r0, r).copy_from(c);
+        self.l = append(&self.l, l);
+        self.u = append(&self.u, u);
+        self.in_weights = append(&self.in_weights, &DVector::from_element(r, weight));
+        self
+    }
+
+    /// Number of equality rows.
+    pub fn n_eq(&self) -> usize {
+        self.a.nrows()
+    }
+
+    /// Number of inequality rows.
+    pub fn n_in(&self) -> usize {
+        self.c.nrows()
+    }
+
+    /// Weighted task cost `½ Σ w (A x − b)² + ½ Σ w dist(C x, [l, u])²` at `x`
+    /// (allocates; for checks).
+    pub fn cost(&self, x: &DVector<f64>) -> f64 {
+        let e = &self.a * x - &self.b;
+        let cx = &self.c * x;
+        let mut s = 0.0;
+        for i in 0..e.len() {
+            s += 0.5 * self.eq_weights[i] * e[i] * e[i];
+        }
+        for i in 0..cx.len() {
+            let v = (self.l[i] - cx[i]).max(cx[i] - self.u[i]).max(0.0);
+            s += 0.5 * self.in_weights[i] * v * v;
+        }
+        s
+    }
+}
+
+fn append(a: &DVector<f64>, b: &DVector<f64>) -> DVector<f64> {
+    DVector::from_iterator(a.len() + b.len(), a.iter().chain(b.iter()).copied())
+}
+
+/// Why a hierarchical solve failed.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum HqpError {
+    /// A level's data changed size since construction.
+    #[error("level {level}: {what} has the wrong size")]
+    DimensionMismatch {
+        /// The level.
+        level: usize,
+        /// The field.
+        what: &'static str,
+    },
+    /// A task weight is not positive and finite.
+    #[error("level {level}: weights must be positive and finite")]
+    BadWeight {
+        /// The level.
+        level: usize,
+    },
+    /// The QP of a level failed.
+    #[error("level {level}: {source}")]
+    Level {
+        /// The level.
+        level: usize,
+        /// The QP solver's error.
+        source: QpError,
+    },
+}
+
+/// A strict hierarchy of [`Level`]s over `n` variables with hard bounds `lx ≤ x ≤ ux`,
+/// solved level by level (see the module docs). Buffers and one warm-started
+/// [`ActiveSetSolver`] per level are allocated at construction; [`HierarchicalQp::solve`]
+/// does not allocate. Update the task data in place through [`HierarchicalQp::levels_mut`].
+#[derive(Debug, Clone)]
+pub struct HierarchicalQp {
+    n: usize,
+    levels: Vec<Level>,
+    /// Hard lower bounds on x (`n`, may be −∞).
+    pub lx: DVector<f64>,
+    /// Hard upper bounds on x (`n`, may be +∞).
+    pub ux: DVector<f64>,
+    /// ε of the `½ ε ‖x‖²` term of every level (default 1e-9).
+    pub regularization: f64,
+    solvers: Vec<ActiveSetSolver>,
+    problems: Vec<QpProblem>,
+    eq_target: Vec<DVector<f64>>,
+    in_lo: Vec<DVector<f64>>,
+    in_hi: Vec<DVector<f64>>,
+    x: DVector<f64>,
+}
+
+impl HierarchicalQp {
+    /// Set up the hierarchy (level 0 has the highest priority) with default [`Settings`].
+    pub fn new(n: usize, levels: Vec<Level>) -> Self {
+        let mut solvers = Vec::with_capacity(levels.len());
+        let mut problems = Vec::with_capacity(levels.len());
+        let (mut held_eq, mut held_in) = (0, 0);
+        for lv in &levels {
+            let nv = n + lv.n_in();
+            solvers.push(ActiveSetSolver::with_settings(
+                nv,
+                held_eq,
+                held_in + lv.n_in(),
+                Settings::default(),
+            ));
+            problems.push(QpProblem::new(nv, held_eq, held_in + lv.n_in()));
+            held_eq += lv.n_eq();
+            held_in += lv.n_in();
+        }
+        Self {
+            n,
+            eq_target: levels.iter().map(|l| DVector::zeros(l.n_eq())).collect(),
+            in_lo: levels.iter().map(|l| DVector::zeros(l.n_in())).collect(),
+            in_hi: levels.iter().map(|l| DVector::zeros(l.n_in())).collect(),
+            levels,
+            lx: DVector::from_element(n, f64::NEG_INFINITY),
+            ux: DVector::from_element(n, f64::INFINITY),
+            regularization: 1e-9,
+            solvers,
+            problems,
+            x: DVector::zeros(n),
+        }
+    }
+
+    /// The levels, highest priority first.
+    pub fn levels(&self) -> &[Level] {
+        &self.levels
+    }
+
+    /// Mutable access to the levels' data (keep the sizes).
+    pub fn levels_mut(&mut self) -> &mut [Level] {
+        &mut self.levels
+    }
+
+    /// The solution of the last successful [`HierarchicalQp::solve`].
+    pub fn x(&self) -> &DVector<f64> {
+        &self.x
+    }
+
+    fn check(&self) -> Result<(), HqpError> {
+        let n = self.n;
+        if self.lx.len() != n || self.ux.len() != n {
+            return Err(HqpError::DimensionMismatch {
+                level: 0,
+                what: "lx/ux",
+            });
+        }
+        for (k, lv) in self.levels.iter().enumerate() {
+            let (re, ri) = (self.eq_target[k].len(), self.in_lo[k].len());
+            let bad = |what| Err(HqpError::DimensionMismatch { level: k, what });
+            if lv.a.shape() != (re, n) || lv.b.len() != re || lv.eq_weights.len() != re {
+                return bad("equality task");
+            }
+            if lv.c.shape() != (ri, n)
+                || lv.l.len() != ri
+                || lv.u.len() != ri
+                || lv.in_weights.len() != ri
+            {
+                return bad("inequality task");
+            }
+            if lv
+                .eq_weights
+                .iter()
+                .chain(lv.in_weights.iter())
+                .any(|w| !(w.is_finite() && *w > 0.0))
+            {
+                return Err(HqpError::BadWeight { level: k });
+            }
+        }
+        Ok(())
+    }
+
+    /// Solve the hierarchy. Returns `x`; the task errors each level achieved are kept by all
+    /// lower levels.
+    pub fn solve(&mut self) -> Result<&DVector<f64>, HqpError> {
+        self.check()?;
+        let n = self.n;
+        let eps = self.regularization;
+        for k in 0..self.levels.len() {
+            let lv = &self.levels[k];
+            let ri = lv.n_in();
+            let p = &mut self.problems[k];
+            // Cost: ½‖A x − b‖²_W + ½ ε‖x‖² + ½‖v‖²_W.
+            p.h.fill(0.0);
+            p.g.fill(0.0);
+            for r in 0..lv.n_eq() {
+                let w = lv.eq_weights[r];
+                for j in 0..n {
+                    let arj = lv.a[(r, j)];
+                    if arj == 0.0 {
+                        continue;
+                    }
+                    p.g[j] -= w * arj * lv.b[r];
+                    for i in 0..n {
+                        p.h[(i, j)] += w * lv.a[(r, i)] * arj;
+                    }
+                }
+            }
+            for i in 0..n {
+                p.h[(i, i)] += eps;
+            }
+            for r in 0..ri {
+                p.h[(n + r, n + r)] = lv.in_weights[r];
+            }
+            // Held equalities of the levels above.
+            let mut row = 0;
+            for j in 0..k {
+                let up = &self.levels[j];
+                for r in 0..up.n_eq() {
+                    for c in 0..n {
+                        p.a[(row, c)] = up.a[(r, c)];
+                    }
+                    p.b[row] = self.eq_target[j][r];
+                    row += 1;
+                }
+            }
+            // This level's inequalities with slacks, then the held ones.
+            p.c.fill(0.0);
+            for r in 0..ri {
+                for c in 0..n {
+                    p.c[(r, c)] = lv.c[(r, c)];
+                }
+                p.c[(r, n + r)] = -1.0;
+                p.l[r] = lv.l[r];
+                p.u[r] = lv.u[r];
+            }
+            let mut row = ri;
+            for j in 0..k {
+                let up = &self.levels[j];
+                for r in 0..up.n_in() {
+                    for c in 0..n {
+                        p.c[(row, c)] = up.c[(r, c)];
+                    }
+                    p.l[row] = self.in_lo[j][r];
+                    p.u[row] = self.in_hi[j][r];
+                    row += 1;
+                }
+            }
+            p.lx.rows_mut(0, n).copy_from(&self.lx);
+            p.ux.rows_mut(0, n).copy_from(&self.ux);
+            let sol = self.solvers[k]
+                .solve(p)
+                .map_err(|source| HqpError::Level { level: k, source })?;
+            // Record what this level achieved.
+            let x = sol.x.rows(0, n);
+            for r in 0..lv.n_eq() {
+                self.eq_target[k][r] = (0..n).map(|c| lv.a[(r, c)] * x[c]).sum();
+            }
+            for r in 0..ri {
+                let v = sol.x[n + r];
+                self.in_lo[k][r] = lv.l[r] + v.min(0.0);
+                self.in_hi[k][r] = lv.u[r] + v.max(0.0);
+            }
+            self.x.copy_from(&x);
+        }
+        Ok(&self.x)
+    }
+}

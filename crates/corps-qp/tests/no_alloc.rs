@@ -1,0 +1,104 @@
+//! After setup, solves do not touch the heap: a counting global allocator (counting only on
+//! the thread that sets the flag) sees zero allocations during repeated solves, cold and
+//! warm, on the fast path and through the active-set iterations, and on failures.
+
+mod common;
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use corps_qp::{ActiveSetSolver, QpProblem, Settings};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+thread_local! {
+    static COUNTING: Cell<bool> = const { Cell::new(false) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if COUNTING.with(|c| c.get()) {
+            ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        }
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if COUNTING.with(|c| c.get()) {
+            ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
+        }
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn count_allocations(f: impl FnOnce()) -> usize {
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    COUNTING.with(|c| c.set(true));
+    f();
+    COUNTING.with(|c| c.set(false));
+    ALLOCATIONS.load(Ordering::SeqCst) - before
+}
+
+#[test]
+fn repeated_solves_do_not_allocate() {
+    // The counter works.
+    assert!(count_allocations(|| drop(std::hint::black_box(vec![1.0f64; 10]))) >= 1);
+
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let (n, ne, ni) = (40, 12, 50);
+    let problems: Vec<QpProblem> = (0..10)
+        .map(|_| common::random_feasible_qp(&mut rng, n, ne, ni, true))
+        .collect();
+    let mut infeasible = problems[0].clone();
+    infeasible.l[0] = 1.0;
+    infeasible.u[0] = 0.0;
+    let mut nan = problems[0].clone();
+    nan.g[0] = f64::NAN;
+    // Equality-only problem: solved by the range-space fast path.
+    let mut eq_only = problems[1].clone();
+    eq_only.l.fill(f64::NEG_INFINITY);
+    eq_only.u.fill(f64::INFINITY);
+    eq_only.lx.fill(f64::NEG_INFINITY);
+    eq_only.ux.fill(f64::INFINITY);
+
+    let tsid = common::load_tsid();
+    for warm in [true, false] {
+        let settings = Settings {
+            warm_start: warm,
+            ..Settings::default()
+        };
+        let mut s = ActiveSetSolver::with_settings(n, ne, ni, settings);
+        let mut t = ActiveSetSolver::with_settings(62, 18, 66, settings);
+        let mut iterations = 0;
+        let count = count_allocations(|| {
+            for _ in 0..3 {
+                for p in &problems {
+                    iterations += s.solve(p).map(|sol| sol.iterations).unwrap_or(0);
+                    // Same problem again: warm start from the final factorization.
+                    iterations += s.solve(p).map(|sol| sol.iterations).unwrap_or(0);
+                }
+                assert!(s.solve(&infeasible).is_err());
+                assert!(s.solve(&nan).is_err());
+                assert!(s.solve(&eq_only).is_ok());
+                for q in &tsid {
+                    assert!(t.solve(&q.problem).is_ok());
+                }
+            }
+        });
+        assert!(iterations > 0, "the active-set iterations ran");
+        assert_eq!(
+            count, 0,
+            "heap allocations during solves (warm_start = {warm})"
+        );
+    }
+}
