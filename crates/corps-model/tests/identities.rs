@@ -513,3 +513,38 @@ fn external_wrenches_act_through_the_jacobian_transpose() {
         );
     }
 }
+
+#[test]
+fn rotation_conversions_round_trip_at_every_angle() {
+    use corps_model::spatial::rotation::{exp3, log3, matrix_to_quat, quat_to_matrix};
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    for k in 0..2000 {
+        let axis = nalgebra::Vector3::new(
+            rng.gen_range(-1.0..1.0),
+            rng.gen_range(-1.0..1.0),
+            rng.gen_range(-1.0..1.0),
+        )
+        .normalize();
+        // Angles across (0, π), with extra samples near 0 and near π.
+        let angle = match k % 4 {
+            0 => rng.gen_range(0.0..1e-6),
+            1 => std::f64::consts::PI - rng.gen_range(0.0..1e-6),
+            _ => rng.gen_range(0.0..std::f64::consts::PI),
+        };
+        let w = axis * angle;
+        let r = exp3(&w);
+        let [x, y, z, qw] = matrix_to_quat(&r);
+        assert_close(
+            "quaternion round trip",
+            quat_to_matrix(x, y, z, qw).as_slice(),
+            r.as_slice(),
+            1e-12,
+        );
+        let back = exp3(&log3(&r));
+        assert_close("exp3(log3(R))", back.as_slice(), r.as_slice(), 1e-10);
+        if angle < std::f64::consts::PI - 1e-3 {
+            assert_close("log3(exp3(w))", log3(&r).as_slice(), w.as_slice(), 1e-9);
+        }
+    }
+}

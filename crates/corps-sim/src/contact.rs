@@ -58,13 +58,14 @@ pub struct PointForce {
     pub surface: usize,
 }
 
-/// Force on a world point at `p` moving at `v` (area share `w`, sphere radius `r`).
+/// Force on a world point at `p` (area share `w`, sphere radius `r`); `velocity` gives the
+/// point's velocity and is called only if the point penetrates a surface.
 #[inline]
 pub fn point_force(
     terrain: &Terrain,
     params: &ContactParams,
     p: &Vector3<f64>,
-    v: &Vector3<f64>,
+    velocity: impl FnOnce() -> Vector3<f64>,
     r: f64,
     w: f64,
     anchor: &Anchor,
@@ -76,7 +77,8 @@ pub fn point_force(
             continue;
         };
         let n = pen.normal;
-        let vn = n.dot(v);
+        let v = velocity();
+        let vn = n.dot(&v);
         let kn = params.normal_stiffness * w;
         let fn_ = (kn * (pen.depth - params.normal_damping_time * vn)).max(0.0);
         if fn_ == 0.0 {

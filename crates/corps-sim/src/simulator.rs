@@ -126,6 +126,11 @@ pub struct Simulator {
     contact: ContactState,
     acceleration: DVector<f64>,
     work: Rk4Work,
+    /// The command of the last accepted step, and whether `acceleration` (evaluated at the
+    /// end of that step) can serve as the first RK4 stage of the next one: it can when the
+    /// command is unchanged and no contact anchor moved (first-same-as-last).
+    last_cmd: Option<Command>,
+    first_stage_valid: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -190,6 +195,8 @@ impl Simulator {
                 ka: std::array::from_fn(|_| DVector::zeros(nv)),
                 kv: std::array::from_fn(|_| DVector::zeros(nv)),
             },
+            last_cmd: None,
+            first_stage_valid: false,
             model,
             settings,
             terrain,
@@ -219,6 +226,7 @@ impl Simulator {
             });
         }
         self.pushes.push((push, joint, frame.placement));
+        self.first_stage_valid = false;
         Ok(())
     }
 
@@ -229,6 +237,7 @@ impl Simulator {
         self.q.copy_from_slice(q);
         self.v.copy_from_slice(v);
         self.anchors.iter_mut().for_each(|a| *a = Anchor::default());
+        self.first_stage_valid = false;
         Ok(())
     }
 
@@ -261,6 +270,10 @@ impl Simulator {
     pub fn acceleration(&self) -> &DVector<f64> {
         &self.acceleration
     }
+    /// Whether the next step can reuse the end-of-step evaluation as its first RK4 stage.
+    pub fn reuses_first_stage(&self) -> bool {
+        self.first_stage_valid
+    }
     /// Contact forces at the current state.
     pub fn contact(&self) -> &ContactState {
         &self.contact
@@ -289,6 +302,9 @@ impl Simulator {
     /// Advances one control period under `cmd`.
     pub fn step(&mut self, cmd: &Command) -> Result<()> {
         self.actuators.check(&self.model, cmd)?;
+        if !store_command(&mut self.last_cmd, cmd) {
+            self.first_stage_valid = false;
+        }
         let h = self.settings.dt();
         for _ in 0..self.settings.substeps {
             match self.settings.integrator {
@@ -308,13 +324,16 @@ impl Simulator {
         let fractions = [0.5, 0.5, 1.0];
         for stage in 0..4 {
             w.kv[stage].copy_from(&w.vs);
-            self.evaluate(
-                cmd,
-                w.qs.as_slice(),
-                w.vs.as_slice(),
-                self.t + h * [0.0, 0.5, 0.5, 1.0][stage],
-                false,
-            );
+            // The end-of-step evaluation already gave stage 1 when nothing changed since.
+            if stage > 0 || !self.first_stage_valid {
+                self.evaluate(
+                    cmd,
+                    w.qs.as_slice(),
+                    w.vs.as_slice(),
+                    self.t + h * [0.0, 0.5, 0.5, 1.0][stage],
+                    false,
+                );
+            }
             w.ka[stage].copy_from(&self.acceleration);
             if stage < 3 {
                 let c = h * fractions[stage];
@@ -377,14 +396,17 @@ impl Simulator {
         let mut w = std::mem::replace(&mut self.work, Rk4Work::empty());
         w.qs.copy_from(&self.q);
         w.vs.copy_from(&self.v);
-        self.evaluate(cmd, w.qs.as_slice(), w.vs.as_slice(), self.t, true);
+        self.first_stage_valid =
+            !self.evaluate(cmd, w.qs.as_slice(), w.vs.as_slice(), self.t, true);
         self.work = w;
         Ok(())
     }
 
     /// Generalized acceleration at (q, v, t) under `cmd`, into `self.acceleration`. With
-    /// `record`, also stores contact forces and moves the anchors.
-    fn evaluate(&mut self, cmd: &Command, q: &[f64], v: &[f64], t: f64, record: bool) {
+    /// `record`, also stores contact forces and moves the anchors; returns whether any anchor
+    /// changed.
+    fn evaluate(&mut self, cmd: &Command, q: &[f64], v: &[f64], t: f64, record: bool) -> bool {
+        let mut changed = false;
         let model = &*self.model;
         self.actuators
             .torques(model, cmd, q, v, self.tau.as_mut_slice());
@@ -416,6 +438,7 @@ impl Simulator {
                             for k in b.points.clone() {
                                 contact.point_forces[k] = Vector3::zeros();
                                 contact.point_positions[k] = m.act_point(&points[k].local);
+                                changed |= anchors[k].active;
                                 anchors[k] = Anchor::default();
                             }
                         }
@@ -425,12 +448,11 @@ impl Simulator {
                     for k in b.points.clone() {
                         let pt = &points[k];
                         let p = m.act_point(&pt.local);
-                        let vel = twist.point_velocity(&p);
                         let pf = point_force(
                             terrain,
                             params,
                             &p,
-                            &vel,
+                            || twist.point_velocity(&p),
                             pt.radius,
                             pt.weight,
                             &anchors[k],
@@ -442,7 +464,9 @@ impl Simulator {
                             contact.point_forces[k] = f;
                             contact.point_positions[k] = p;
                             contact.body_wrenches[b.joint] += wrench;
-                            anchors[k] = pf.map_or(Anchor::default(), |x| x.next_anchor);
+                            let next = pf.map_or(Anchor::default(), |x| x.next_anchor);
+                            changed |= next != anchors[k];
+                            anchors[k] = next;
                         }
                     }
                 }
@@ -458,6 +482,41 @@ impl Simulator {
         match result {
             Ok(a) => self.acceleration.copy_from(a),
             Err(_) => self.acceleration.fill(f64::NAN),
+        }
+        changed
+    }
+}
+
+/// Keeps a copy of `cmd` in `slot` without allocating when the shape is unchanged; returns
+/// whether the stored command was already equal to `cmd`.
+fn store_command(slot: &mut Option<Command>, cmd: &Command) -> bool {
+    match (slot.as_mut(), cmd) {
+        (Some(Command::Torque(a)), Command::Torque(b))
+        | (Some(Command::Velocity(a)), Command::Velocity(b))
+            if a.len() == b.len() =>
+        {
+            let same = a == b;
+            a.copy_from(b);
+            same
+        }
+        (
+            Some(Command::Position {
+                q_ref: qa,
+                v_ref: va,
+            }),
+            Command::Position {
+                q_ref: qb,
+                v_ref: vb,
+            },
+        ) if qa.len() == qb.len() && va.len() == vb.len() => {
+            let same = qa == qb && va == vb;
+            qa.copy_from(qb);
+            va.copy_from(vb);
+            same
+        }
+        _ => {
+            *slot = Some(cmd.clone());
+            false
         }
     }
 }
