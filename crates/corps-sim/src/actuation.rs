@@ -30,9 +30,11 @@ pub struct ServoGains {
 impl ServoGains {
     /// A stiff position servo, as TALOS' high-gain joint position control: each joint reaches
     /// its effort limit at an error of `saturation_angle` (kp = τ_max / θ_sat) and is damped
-    /// with ratio `damping_ratio` on its own inertia M_ii(q) (kd = 2 ζ √(kp M_ii)).
-    /// With θ_sat = 0.02 rad the fastest TALOS joint (an ankle) has ω = √(kp/M_ii) ≈ 710 rad/s,
-    /// well inside RK4's stability region at 1 ms.
+    /// with ratio `damping_ratio` on the inertia it actually feels, the apparent inertia
+    /// m_j = 1 / (M⁻¹)_jj (every other joint free): kd = 2 ζ √(kp m_j). Sizing the damping on
+    /// the diagonal M_jj instead over-damps joints whose neighbours move with them (TALOS'
+    /// arm_3: M_jj = 0.086, m_j = 0.009 kg·m²) and drives RK4 at 1 ms past its stability
+    /// boundary (the arms then drift at a spurious constant speed).
     pub fn high_gain(
         model: &Model,
         q: &[f64],
@@ -52,7 +54,7 @@ impl ServoGains {
             });
         }
         let mut data = Data::new(model);
-        let m = corps_model::crba(model, &mut data, q)?;
+        let minv = corps_model::compute_minverse(model, &mut data, q)?;
         let first = first_actuated(model);
         let na = model.nv - first;
         let kp = DVector::from_fn(na, |k, _| {
@@ -64,7 +66,8 @@ impl ServoGains {
             }
         });
         let kd = DVector::from_fn(na, |k, _| {
-            2.0 * damping_ratio * (kp[k] * m[(first + k, first + k)]).sqrt()
+            let apparent = 1.0 / minv[(first + k, first + k)];
+            2.0 * damping_ratio * (kp[k] * apparent).sqrt()
         });
         Ok(ServoGains { kp, kd })
     }

@@ -95,6 +95,22 @@ pub struct Readings {
     pub contact_wrenches: Vec<[f64; 6]>,
 }
 
+impl Readings {
+    /// Copies `other` into `self` without allocating (same sizes).
+    pub fn copy_from(&mut self, other: &Readings) {
+        self.time = other.time;
+        self.joint_positions.copy_from(&other.joint_positions);
+        self.joint_velocities.copy_from(&other.joint_velocities);
+        self.joint_torques.copy_from(&other.joint_torques);
+        self.force_torque.copy_from_slice(&other.force_torque);
+        self.imu = other.imu;
+        self.base_pose = other.base_pose;
+        self.base_twist = other.base_twist;
+        self.contact_wrenches
+            .copy_from_slice(&other.contact_wrenches);
+    }
+}
+
 /// Reads the simulator's sensors.
 pub struct Sensors {
     layout: Vec<(String, usize, Se3)>,
@@ -147,13 +163,22 @@ impl Sensors {
                 });
             }
         }
+        let na = model.nv - first_actuated(model);
+        let readings = Readings {
+            joint_positions: DVector::zeros(na),
+            joint_velocities: DVector::zeros(na),
+            joint_torques: DVector::zeros(na),
+            force_torque: vec![[0.0; 6]; ft.len()],
+            contact_wrenches: vec![[0.0; 6]; model.njoints()],
+            ..Readings::default()
+        };
         Ok(Self {
             layout: ft,
             imu,
             noise,
             rng: ChaCha8Rng::seed_from_u64(seed),
-            truth: Readings::default(),
-            measured: Readings::default(),
+            truth: readings.clone(),
+            measured: readings,
         })
     }
 
@@ -172,7 +197,7 @@ impl Sensors {
         &self.measured
     }
 
-    /// Reads the simulator (call after each step).
+    /// Reads the simulator (call after each step). Allocation-free.
     pub fn update(&mut self, sim: &Simulator) {
         let model = sim.model();
         let (q, v, data) = (sim.q(), sim.v(), sim.data());
@@ -180,7 +205,6 @@ impl Sensors {
         let na = model.nv - first;
         let t = &mut self.truth;
         t.time = sim.time();
-        t.joint_positions = DVector::zeros(na);
         for j in &model.joints {
             if j.idx_v < first {
                 continue;
@@ -191,19 +215,17 @@ impl Sensors {
                 _ => q[j.idx_q],
             };
         }
-        t.joint_velocities = v.rows(first, na).into_owned();
-        t.joint_torques = sim.applied_torques().rows(first, na).into_owned();
+        t.joint_velocities.copy_from(&v.rows(first, na));
+        t.joint_torques
+            .copy_from(&sim.applied_torques().rows(first, na));
         let wrenches = &sim.contact().body_wrenches;
-        t.force_torque = self
-            .layout
-            .iter()
-            .map(|(_, joint, placement)| {
-                let o_m_s = data.o_m_i[*joint] * *placement;
-                let w = o_m_s.act_inv_force(&wrenches[*joint]);
-                force6(&w)
-            })
-            .collect();
-        t.contact_wrenches = wrenches.iter().map(force6).collect();
+        for ((_, joint, placement), out) in self.layout.iter().zip(t.force_torque.iter_mut()) {
+            let o_m_s = data.o_m_i[*joint] * *placement;
+            *out = force6(&o_m_s.act_inv_force(&wrenches[*joint]));
+        }
+        for (w, out) in wrenches.iter().zip(t.contact_wrenches.iter_mut()) {
+            *out = force6(w);
+        }
         // IMU: proper acceleration of its point. ABA's world accelerations already hold −g.
         let (ij, ip) = self.imu;
         let o_m_imu = data.o_m_i[ij] * ip;
@@ -221,12 +243,12 @@ impl Sensors {
             t.base_pose.copy_from_slice(&q.as_slice()[..7]);
             t.base_twist.copy_from_slice(&v.as_slice()[..6]);
         }
-        self.measured = self.truth.clone();
+        self.measured.copy_from(&self.truth);
         self.add_noise();
     }
 
     fn add_noise(&mut self) {
-        let n = self.noise.clone();
+        let n = &self.noise;
         let rng = &mut self.rng;
         let mut draw = |x: &mut f64, c: Noise| {
             if c.std > 0.0 {

@@ -283,6 +283,12 @@ fn talos_stands_under_the_pd_hold() {
         assert!(slip < 1e-3, "foot {k} slipped {slip:.3e} m");
     }
     assert!(s.q()[2] > 0.9, "base height {:.3}", s.q()[2]);
+    // Standing still: no joint drifting at a spurious speed (an integrator-stability symptom).
+    assert!(
+        s.v().amax() < 0.05,
+        "largest velocity {:.3e} while standing",
+        s.v().amax()
+    );
 }
 
 #[test]

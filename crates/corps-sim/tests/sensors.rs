@@ -1,0 +1,105 @@
+//! Sensors read the physics correctly and noise is reproducible from the seed.
+
+mod common;
+use common::*;
+use corps_sim::*;
+
+fn standing(noise: SensorNoise, seed: u64, seconds: f64) -> (Simulator, Sensors) {
+    let model = talos();
+    let mut q = model
+        .reference_configuration("half_sitting")
+        .unwrap()
+        .clone();
+    place_on_ground(&model, q.as_mut_slice(), 0.0).unwrap();
+    let gains = ServoGains::high_gain(&model, q.as_slice(), 0.02, 1.0).unwrap();
+    let mut sim = Simulator::new(
+        model.clone(),
+        Terrain::preset(TerrainPreset::Flat, 0.8),
+        SimSettings::default(),
+        q.as_slice(),
+        gains,
+    )
+    .unwrap();
+    let mut sensors = Sensors::new(&model, &SensorLayout::default(), noise, seed).unwrap();
+    let cmd = hold(&model, &q);
+    for _ in 0..(seconds * 1000.0) as usize {
+        sim.step(&cmd).unwrap();
+        sensors.update(&sim);
+    }
+    (sim, sensors)
+}
+
+#[test]
+fn standing_robot_sensors_read_gravity_and_weight() {
+    let (sim, sensors) = standing(SensorNoise::default(), 0, 2.0);
+    let t = sensors.truth();
+    // IMU at rest: specific force of magnitude g, pointing up in the world.
+    let a = nalgebra::Vector3::from(t.imu.linear_acceleration);
+    assert!((a.norm() - 9.81).abs() < 0.05, "IMU specific force {a:?}");
+    let [x, y, z, w] = t.imu.orientation;
+    let r = corps_model::spatial::rotation::quat_to_matrix(x, y, z, w);
+    assert!(
+        ((r * a).z - 9.81).abs() < 0.05,
+        "IMU specific force in the world {:?}",
+        r * a
+    );
+    assert!(nalgebra::Vector3::from(t.imu.angular_velocity).norm() < 0.05);
+    // Ankle F/T sensors (sole frames, upright) carry the weight between them.
+    let weight = sim.model().total_mass() * 9.81;
+    let fz = t.force_torque[0][2] + t.force_torque[1][2];
+    assert!(
+        (fz - weight).abs() < 0.01 * weight,
+        "ankle sensors {fz:.1} N, weight {weight:.1} N"
+    );
+    assert!(
+        t.force_torque[0][2] > 0.3 * weight && t.force_torque[1][2] > 0.3 * weight,
+        "both feet loaded"
+    );
+    // Wrists touch nothing.
+    assert_eq!(t.force_torque[2], [0.0; 6]);
+    // Measured = truth without noise.
+    assert_eq!(sensors.measured(), t);
+}
+
+#[test]
+fn noise_is_reproducible_from_the_seed_and_has_its_statistics() {
+    let noise = SensorNoise {
+        encoders: Noise {
+            std: 1e-3,
+            bias: 2e-3,
+        },
+        force: Noise {
+            std: 5.0,
+            bias: 0.0,
+        },
+        ..Default::default()
+    };
+    let (_, a) = standing(noise.clone(), 42, 0.05);
+    let (_, b) = standing(noise.clone(), 42, 0.05);
+    let (_, c) = standing(noise, 43, 0.05);
+    assert_eq!(a.measured(), b.measured(), "same seed, same readings");
+    assert_ne!(
+        a.measured().joint_positions,
+        c.measured().joint_positions,
+        "another seed, other noise"
+    );
+    let err = a.measured().joint_positions.clone() - &a.truth().joint_positions;
+    let mean = err.mean();
+    let std = (err.map(|e| (e - mean) * (e - mean)).sum() / (err.len() - 1) as f64).sqrt();
+    assert!((mean - 2e-3).abs() < 1e-3, "bias {mean:.2e}");
+    assert!(std > 0.5e-3 && std < 1.6e-3, "std {std:.2e}");
+}
+
+#[test]
+fn unknown_sensor_frames_are_named_in_the_error() {
+    let model = talos();
+    let layout = SensorLayout {
+        force_torque: vec![("left".into(), "no_such_frame".into())],
+        imu: None,
+    };
+    let e = Sensors::new(&model, &layout, SensorNoise::default(), 0)
+        .err()
+        .expect("rejected")
+        .to_string();
+    assert!(e.contains("left") && e.contains("no_such_frame"), "{e}");
+}
