@@ -1,0 +1,236 @@
+//! TSID's acceleration–force inverse-dynamics formulation (`InverseDynamicsFormulationAccForce`
+//! solved as one weighted QP): variables `x = [q̈; f₁; …; f_k]`;
+//! - equalities: the floating-base rows of the dynamics `M_u q̈ − Jc_uᵀ f = −h_u`, and each
+//!   contact's motion task `J q̈ = a_des − J̇ v`;
+//! - inequalities: each contact's friction pyramid and normal-force bounds, and the actuation
+//!   bounds `τ_min − h_a ≤ M_a q̈ − Jc_aᵀ f ≤ τ_max − h_a`;
+//! - cost: Σ w‖A_k x − b_k‖² over the priority-1 tasks (contact force regularizations, CoM,
+//!   posture, angular momentum, other frame tasks), plus 1e-8‖x‖² (TSID's Hessian
+//!   regularization).
+//!
+//! Torques follow from the actuated rows: `τ = M_a q̈ + h_a − Jc_aᵀ f`.
+
+use crate::contacts::{Contact6d, FORCE_ROWS, FORCE_VARS};
+use crate::error::{ControlError, Result};
+use crate::robot_state::RobotState;
+use crate::tasks::{AngularMomentumTask, ComTask, PostureTask, Se3Task, TaskRows};
+use corps_model::Model;
+use corps_qp::{ActiveSetSolver, QpProblem};
+use nalgebra::{DMatrix, DVector};
+
+/// TSID's `DEFAULT_HESSIAN_REGULARIZATION`.
+pub const HESSIAN_REGULARIZATION: f64 = 1e-8;
+
+/// The controller's answer at one tick.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IdOutput {
+    /// Joint accelerations q̈ (nv).
+    pub dv: DVector<f64>,
+    /// Contact forces, 12 per contact, in contact order.
+    pub forces: DVector<f64>,
+    /// Actuated joint torques (na).
+    pub tau: DVector<f64>,
+}
+
+/// The weighted inverse-dynamics controller.
+pub struct InverseDynamics {
+    pub com: Option<(ComTask, f64)>,
+    pub posture: Option<(PostureTask, f64)>,
+    pub angular_momentum: Option<(AngularMomentumTask, f64)>,
+    /// Frame tasks in the cost (e.g. a swing foot), with weights.
+    pub frames: Vec<(Se3Task, f64)>,
+    pub contacts: Vec<Contact6d>,
+    /// Actuation bounds (na each), a hard inequality when set.
+    pub actuation: Option<(DVector<f64>, DVector<f64>)>,
+    first: usize,
+    pub problem: QpProblem,
+    solver: ActiveSetSolver,
+    pub output: IdOutput,
+}
+
+impl InverseDynamics {
+    /// An empty formulation for `model` (add tasks and contacts, then call `compute`).
+    pub fn new(model: &Model) -> Self {
+        let first = if model.has_free_flyer() { 6 } else { 0 };
+        let na = model.nv - first;
+        Self {
+            com: None,
+            posture: None,
+            angular_momentum: None,
+            frames: Vec::new(),
+            contacts: Vec::new(),
+            actuation: None,
+            first,
+            problem: QpProblem::new(model.nv, first, 0),
+            solver: ActiveSetSolver::new(model.nv, first, 0),
+            output: IdOutput {
+                dv: DVector::zeros(model.nv),
+                forces: DVector::zeros(0),
+                tau: DVector::zeros(na),
+            },
+        }
+    }
+
+    /// Problem sizes (variables, equalities, inequalities) for the current contacts.
+    pub fn dims(&self, model: &Model) -> (usize, usize, usize) {
+        let nc = self.contacts.len();
+        let na = model.nv - self.first;
+        let n_in = FORCE_ROWS * nc + if self.actuation.is_some() { na } else { 0 };
+        (model.nv + FORCE_VARS * nc, self.first + 6 * nc, n_in)
+    }
+
+    /// Builds the QP at state `s` into `self.problem` (resizing only when contacts change).
+    pub fn build(&mut self, model: &Model, s: &RobotState) -> Result<()> {
+        let (n, n_eq, n_in) = self.dims(model);
+        if self.problem.dims() != (n, n_eq, n_in) {
+            self.problem = QpProblem::new(n, n_eq, n_in);
+            self.solver.resize(n, n_eq, n_in);
+            self.output.forces = DVector::zeros(n - model.nv);
+        }
+        let nv = model.nv;
+        let first = self.first;
+        let p = &mut self.problem;
+        p.h.fill(0.0);
+        p.g.fill(0.0);
+        p.a.fill(0.0);
+        p.b.fill(0.0);
+        p.c.fill(0.0);
+        let m = &s.data.m;
+        let h = &s.data.nle;
+        // Contacts first: their Jacobians enter the dynamics rows.
+        for contact in &mut self.contacts {
+            contact.compute(model, s)?;
+        }
+        // Floating-base dynamics rows.
+        for r in 0..first {
+            for c in 0..nv {
+                p.a[(r, c)] = m[(r, c)];
+            }
+            for (k, contact) in self.contacts.iter().enumerate() {
+                for j in 0..FORCE_VARS {
+                    p.a[(r, nv + FORCE_VARS * k + j)] = -contact.jc[(j, r)];
+                }
+            }
+            p.b[r] = -h[r];
+        }
+        // Contact motion rows, friction rows and force regularization.
+        for (k, contact) in self.contacts.iter().enumerate() {
+            let rows = &contact.motion_rows();
+            let r0 = first + 6 * k;
+            for r in 0..6 {
+                for c in 0..nv {
+                    p.a[(r0 + r, c)] = rows.a[(r, c)];
+                }
+                p.b[r0 + r] = rows.b[r];
+            }
+            let col = nv + FORCE_VARS * k;
+            contact.force_constraints(&mut p.c, &mut p.l, &mut p.u, FORCE_ROWS * k, col);
+            let t = contact.generator();
+            let w = contact.force_reg_weight;
+            let cw = &contact.force_reg_components;
+            // ‖diag(cw) (T f − f_ref)‖² weighted by w.
+            for i in 0..FORCE_VARS {
+                for j in 0..FORCE_VARS {
+                    let mut acc = 0.0;
+                    for r in 0..6 {
+                        acc += cw[r] * cw[r] * t[(r, i)] * t[(r, j)];
+                    }
+                    p.h[(col + i, col + j)] += w * acc;
+                }
+                let mut acc = 0.0;
+                for r in 0..6 {
+                    acc += cw[r] * cw[r] * t[(r, i)] * contact.force_reference[r];
+                }
+                p.g[col + i] -= w * acc;
+            }
+        }
+        // Actuation bounds.
+        if let Some((lower, upper)) = &self.actuation {
+            let r0 = FORCE_ROWS * self.contacts.len();
+            for k in 0..nv - first {
+                let r = first + k;
+                for c in 0..nv {
+                    p.c[(r0 + k, c)] = m[(r, c)];
+                }
+                for (ci, contact) in self.contacts.iter().enumerate() {
+                    for j in 0..FORCE_VARS {
+                        p.c[(r0 + k, nv + FORCE_VARS * ci + j)] = -contact.jc[(j, r)];
+                    }
+                }
+                p.l[r0 + k] = lower[k] - h[r];
+                p.u[r0 + k] = upper[k] - h[r];
+            }
+        }
+        // Cost terms on q̈.
+        if let Some((task, w)) = &mut self.com {
+            add_least_squares(&mut p.h, &mut p.g, task.compute(s), *w);
+        }
+        if let Some((task, w)) = &mut self.posture {
+            let rows = task.compute(model, s);
+            for k in 0..rows.rows() {
+                p.h[(first + k, first + k)] += *w;
+                p.g[first + k] -= *w * rows.b[k];
+            }
+        }
+        if let Some((task, w)) = &mut self.angular_momentum {
+            add_least_squares(&mut p.h, &mut p.g, task.compute(s), *w);
+        }
+        for (task, w) in &mut self.frames {
+            add_least_squares(&mut p.h, &mut p.g, task.compute(model, s)?, *w);
+        }
+        for i in 0..n {
+            p.h[(i, i)] += HESSIAN_REGULARIZATION;
+        }
+        Ok(())
+    }
+
+    /// Builds and solves the QP; on success fills `self.output` (q̈, forces, τ).
+    pub fn compute(&mut self, model: &Model, s: &RobotState) -> Result<&IdOutput> {
+        self.build(model, s)?;
+        let sol = self.solver.solve(&self.problem).map_err(ControlError::Qp)?;
+        let nv = model.nv;
+        self.output.dv.copy_from(&sol.x.rows(0, nv));
+        let nf = self.output.forces.len();
+        self.output.forces.copy_from(&sol.x.rows(nv, nf));
+        // τ = M_a q̈ + h_a − Jc_aᵀ f.
+        let (m, h) = (&s.data.m, &s.data.nle);
+        for k in 0..nv - self.first {
+            let r = self.first + k;
+            let mut t = h[r];
+            for c in 0..nv {
+                t += m[(r, c)] * self.output.dv[c];
+            }
+            for (ci, contact) in self.contacts.iter().enumerate() {
+                for j in 0..FORCE_VARS {
+                    t -= contact.jc[(j, r)] * self.output.forces[FORCE_VARS * ci + j];
+                }
+            }
+            self.output.tau[k] = t;
+        }
+        Ok(&self.output)
+    }
+}
+
+/// `H += w AᵀA` and `g −= w Aᵀ b` over the first `A.ncols()` variables.
+fn add_least_squares(h: &mut DMatrix<f64>, g: &mut DVector<f64>, rows: &TaskRows, w: f64) {
+    let n = rows.a.ncols();
+    for i in 0..n {
+        for j in i..n {
+            let mut acc = 0.0;
+            for r in 0..rows.rows() {
+                acc += rows.a[(r, i)] * rows.a[(r, j)];
+            }
+            if acc != 0.0 {
+                h[(i, j)] += w * acc;
+                if i != j {
+                    h[(j, i)] += w * acc;
+                }
+            }
+        }
+        let mut acc = 0.0;
+        for r in 0..rows.rows() {
+            acc += rows.a[(r, i)] * rows.b[r];
+        }
+        g[i] -= w * acc;
+    }
+}

@@ -1,0 +1,42 @@
+//! Centre-of-mass task: `Jcom q̈ = a_des − J̇com v`,
+//! `a_des = −Kp∘(c − c_ref) − Kd∘(ċ − ċ_ref) + c̈_ref` (TSID `TaskComEquality`).
+
+use super::{Reference, TaskRows};
+use crate::robot_state::RobotState;
+use nalgebra::{DVector, Vector3};
+
+pub struct ComTask {
+    pub kp: Vector3<f64>,
+    pub kd: Vector3<f64>,
+    pub reference: Reference,
+    rows: TaskRows,
+}
+
+impl ComTask {
+    pub fn new(nv: usize, kp: Vector3<f64>, kd: Vector3<f64>) -> Self {
+        Self {
+            kp,
+            kd,
+            reference: Reference::constant(DVector::zeros(3)),
+            rows: TaskRows::new(3, nv),
+        }
+    }
+
+    /// Desired CoM acceleration at the state.
+    pub fn desired_acceleration(&self, s: &RobotState) -> Vector3<f64> {
+        let r = &self.reference;
+        Vector3::from_fn(|k, _| {
+            -self.kp[k] * (s.data.com[k] - r.pos[k]) - self.kd[k] * (s.com_velocity[k] - r.vel[k])
+                + r.acc[k]
+        })
+    }
+
+    pub fn compute(&mut self, s: &RobotState) -> &TaskRows {
+        let a = self.desired_acceleration(s);
+        self.rows.a.copy_from(&s.data.jcom);
+        for k in 0..3 {
+            self.rows.b[k] = a[k] - s.com_drift[k];
+        }
+        &self.rows
+    }
+}

@@ -1,0 +1,86 @@
+//! Frame pose task in the frame's LOCAL coordinates (TSID `TaskSE3Equality`, local frame):
+//! `J q̈ = a_des − J̇ v` with `M_err = oMf⁻¹ M_ref`, `p_err = [M_err.t; log3(M_err.R)]`,
+//! `v_err = Rᵀ v_ref − v_f`, `a_des = Kp∘p_err + Kd∘v_err + Rᵀ a_ref`.
+
+use super::TaskRows;
+use crate::robot_state::RobotState;
+use corps_model::spatial::{rotation::log3, Motion, Se3};
+use corps_model::{Model, Result};
+use nalgebra::{Matrix6xX, Vector6};
+
+/// An SE3 reference: placement in the world, velocity and acceleration in world-aligned axes
+/// at the frame ([linear; angular]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Se3Reference {
+    pub placement: Se3,
+    pub velocity: Motion,
+    pub acceleration: Motion,
+}
+
+pub struct Se3Task {
+    pub frame: usize,
+    pub kp: Vector6<f64>,
+    pub kd: Vector6<f64>,
+    pub reference: Se3Reference,
+    jac: Matrix6xX<f64>,
+    rows: TaskRows,
+}
+
+impl Se3Task {
+    pub fn new(
+        nv: usize,
+        frame: usize,
+        kp: Vector6<f64>,
+        kd: Vector6<f64>,
+        reference: Se3Reference,
+    ) -> Self {
+        Self {
+            frame,
+            kp,
+            kd,
+            reference,
+            jac: Matrix6xX::zeros(nv),
+            rows: TaskRows::new(6, nv),
+        }
+    }
+
+    /// The rows computed by the last `compute`.
+    pub fn rows(&self) -> &TaskRows {
+        &self.rows
+    }
+
+    /// Desired LOCAL frame acceleration minus the drift, and the LOCAL Jacobian.
+    pub fn compute(&mut self, model: &Model, s: &RobotState) -> Result<&TaskRows> {
+        let o_m_f = s.frame_placement(model, self.frame)?;
+        let err = o_m_f.inverse() * self.reference.placement;
+        let p_err = Motion::new(err.translation, log3(&err.rotation));
+        let rt = o_m_f.rotation.transpose();
+        let v_f = s.frame_velocity_local(model, self.frame)?;
+        let v_ref = Motion::new(
+            rt * self.reference.velocity.linear,
+            rt * self.reference.velocity.angular,
+        );
+        let a_ref = Motion::new(
+            rt * self.reference.acceleration.linear,
+            rt * self.reference.acceleration.angular,
+        );
+        let v_err = v_ref - v_f;
+        let drift = s.frame_drift_local(model, self.frame)?;
+        let (pe, ve, ar, dr) = (
+            p_err.to_vector(),
+            v_err.to_vector(),
+            a_ref.to_vector(),
+            drift.to_vector(),
+        );
+        for k in 0..6 {
+            self.rows.b[k] = self.kp[k] * pe[k] + self.kd[k] * ve[k] + ar[k] - dr[k];
+        }
+        s.frame_jacobian_local(model, self.frame, &mut self.jac)?;
+        for r in 0..6 {
+            for c in 0..self.jac.ncols() {
+                self.rows.a[(r, c)] = self.jac[(r, c)];
+            }
+        }
+        Ok(&self.rows)
+    }
+}
