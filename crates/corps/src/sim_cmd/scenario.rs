@@ -1,0 +1,344 @@
+//! The scenario file of `corps sim`: its TOML schema (unknown keys are errors), parsing with
+//! one-line errors that name the key, and the checks of values that need no robot model.
+
+use corps_sim::{Push, SensorNoise, SimSettings, TerrainPreset};
+use serde::Deserialize;
+use std::path::PathBuf;
+
+/// A simulation scenario. Every section is optional except `duration`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Name of the run (default: the file name without extension); names the output directory.
+    pub name: Option<String>,
+    /// Simulated time (s).
+    pub duration: f64,
+    /// Seed of the sensor noise.
+    #[serde(default)]
+    pub seed: u64,
+    #[serde(default)]
+    pub robot: RobotSection,
+    #[serde(default)]
+    pub terrain: TerrainSection,
+    #[serde(default)]
+    pub initial: InitialSection,
+    #[serde(default)]
+    pub actuation: ActuationSection,
+    /// Simulator settings (control period, substeps, integrator, contact, gravity).
+    #[serde(default)]
+    pub sim: SimSettings,
+    /// Pushes, `[[push]]` tables.
+    #[serde(default, rename = "push")]
+    pub pushes: Vec<Push>,
+    /// Sensor noise per channel (none by default).
+    #[serde(default)]
+    pub noise: SensorNoise,
+    /// Sensor layout; absent: TALOS' sensors for the default robot, none for another.
+    pub sensors: Option<SensorsSection>,
+    #[serde(default)]
+    pub output: OutputSection,
+}
+
+/// `[robot]`: the URDF and SRDF, relative to the scenario file. Default: TALOS with box feet.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RobotSection {
+    pub urdf: Option<PathBuf>,
+    pub srdf: Option<PathBuf>,
+}
+
+/// `[terrain]`: a preset and its friction coefficient.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TerrainSection {
+    pub preset: TerrainPreset,
+    pub mu: f64,
+}
+
+impl Default for TerrainSection {
+    fn default() -> Self {
+        Self {
+            preset: TerrainPreset::Flat,
+            mu: 0.8,
+        }
+    }
+}
+
+/// `[initial]`: the starting configuration.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct InitialSection {
+    /// A reference configuration of the SRDF.
+    pub configuration: String,
+    /// Lower or lift the base so the lowest contact point touches z = 0.
+    pub place_on_ground: bool,
+    /// Horizontal base position (m), replacing the configuration's.
+    pub base_xy: Option<[f64; 2]>,
+}
+
+impl Default for InitialSection {
+    fn default() -> Self {
+        Self {
+            configuration: "half_sitting".into(),
+            place_on_ground: true,
+            base_xy: None,
+        }
+    }
+}
+
+/// What the joints are commanded to do for the whole run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ActuationMode {
+    /// Joint PD servo holding the initial configuration.
+    Position,
+    /// Zero joint torque (the robot collapses).
+    Torque,
+    /// Joint velocity servo holding zero velocity.
+    Velocity,
+}
+
+/// `[actuation]`: the mode and the servo gains of `corps_sim::ServoGains::high_gain`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ActuationSection {
+    pub mode: ActuationMode,
+    /// Joint error (rad) at which the servo reaches the effort limit.
+    pub saturation_angle: f64,
+    /// Damping ratio of each joint on its own inertia.
+    pub damping_ratio: f64,
+}
+
+impl Default for ActuationSection {
+    fn default() -> Self {
+        Self {
+            mode: ActuationMode::Position,
+            saturation_angle: 0.02,
+            damping_ratio: 1.0,
+        }
+    }
+}
+
+/// `[sensors]`: force/torque sensors as `[name, frame]` pairs, the IMU frame (absent: the root
+/// body) and the feet as `[label, force/torque sensor]` pairs (for contact forces, CoP, slip).
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SensorsSection {
+    pub force_torque: Vec<(String, String)>,
+    pub imu: Option<String>,
+    pub feet: Vec<(String, String)>,
+}
+
+/// Log file formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LogFormat {
+    /// Comma-separated values, one row per control tick.
+    #[default]
+    Csv,
+}
+
+/// `[output]`: where and what to write.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputSection {
+    /// Output directory, relative to the current directory (default `out/<name>`).
+    pub directory: Option<PathBuf>,
+    pub format: LogFormat,
+    /// Write the PNG plots.
+    pub plots: bool,
+}
+
+impl Default for OutputSection {
+    fn default() -> Self {
+        Self {
+            directory: None,
+            format: LogFormat::Csv,
+            plots: true,
+        }
+    }
+}
+
+impl Scenario {
+    /// Parses and checks a scenario. The error is one line: `line N: key.path: message`.
+    pub fn parse(text: &str) -> Result<Scenario, String> {
+        let one_line = |e: &toml::de::Error, path: &str| {
+            let span = e
+                .span()
+                .map(|s| s.start.min(text.len())..s.end.min(text.len()));
+            let line = span
+                .as_ref()
+                .map(|s| format!("line {}: ", text[..s.start].matches('\n').count() + 1))
+                .unwrap_or_default();
+            let key = if path.is_empty() || path == "." {
+                String::new()
+            } else {
+                format!("{path}: ")
+            };
+            let mut message = e.message().trim().replace('\n', " ");
+            // Syntax errors (no key path) show the text they point at, e.g. a duplicate key.
+            if let Some(at) = span.map(|s| text[s].trim()) {
+                if key.is_empty() && !at.is_empty() && at.len() <= 40 && !at.contains('\n') {
+                    message = format!("{message} `{at}`");
+                }
+            }
+            format!("{line}{key}{message}")
+        };
+        let de = toml::Deserializer::parse(text).map_err(|e| one_line(&e, ""))?;
+        let scenario: Scenario = serde_path_to_error::deserialize(de)
+            .map_err(|e| one_line(e.inner(), &e.path().to_string()))?;
+        scenario.check()?;
+        Ok(scenario)
+    }
+
+    /// Replaces the duration (command-line override) and checks again.
+    pub fn with_duration(mut self, duration: f64) -> Result<Scenario, String> {
+        self.duration = duration;
+        self.check().map_err(|e| format!("--duration: {e}"))?;
+        Ok(self)
+    }
+
+    /// Checks the values that need no robot model; the error names the key.
+    fn check(&self) -> Result<(), String> {
+        let positive = |key: &str, x: f64, unit: &str| {
+            if x > 0.0 && x.is_finite() {
+                Ok(())
+            } else {
+                Err(format!(
+                    "{key}: must be a positive number of {unit}, got {x}"
+                ))
+            }
+        };
+        positive("duration", self.duration, "seconds")?;
+        if let Some(name) = &self.name {
+            if name.is_empty() || name.contains(['/', '\\']) || name == "." || name == ".." {
+                return Err(format!(
+                    "name: '{name}' cannot name a directory (empty, or holds a path separator)"
+                ));
+            }
+        }
+        if !(self.terrain.mu >= 0.0 && self.terrain.mu.is_finite()) {
+            return Err(format!(
+                "terrain.mu: must be a finite number ≥ 0, got {}",
+                self.terrain.mu
+            ));
+        }
+        if let Some([x, y]) = self.initial.base_xy {
+            if !(x.is_finite() && y.is_finite()) {
+                return Err("initial.base_xy: must be finite".into());
+            }
+        }
+        positive(
+            "actuation.saturation_angle",
+            self.actuation.saturation_angle,
+            "radians",
+        )?;
+        if !(self.actuation.damping_ratio >= 0.0 && self.actuation.damping_ratio.is_finite()) {
+            return Err(format!(
+                "actuation.damping_ratio: must be a finite number ≥ 0, got {}",
+                self.actuation.damping_ratio
+            ));
+        }
+        self.sim.validate().map_err(|e| match e {
+            corps_sim::SimError::Setting { name, reason } => format!("sim.{name}: {reason}"),
+            other => format!("sim: {other}"),
+        })?;
+        if self.duration < self.sim.control_dt {
+            return Err(format!(
+                "duration: {} s is shorter than one control period ({} s)",
+                self.duration, self.sim.control_dt
+            ));
+        }
+        for (k, p) in self.pushes.iter().enumerate() {
+            if !(p.start >= 0.0 && p.start.is_finite()) {
+                return Err(format!(
+                    "push[{k}].start: must be a finite time ≥ 0 s, got {}",
+                    p.start
+                ));
+            }
+            if !(p.duration >= 0.0 && p.duration.is_finite()) {
+                return Err(format!(
+                    "push[{k}].duration: must be a finite time ≥ 0 s, got {}",
+                    p.duration
+                ));
+            }
+            for (key, v) in [("force", p.force), ("torque", p.torque)] {
+                if v.iter().any(|x| !x.is_finite()) {
+                    return Err(format!("push[{k}].{key}: must be finite"));
+                }
+            }
+        }
+        check_noise(&self.noise)
+    }
+
+    /// The run's name: `name`, or the file stem of `path`.
+    pub fn run_name(&self, path: &std::path::Path) -> String {
+        self.name.clone().unwrap_or_else(|| {
+            path.file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "scenario".into())
+        })
+    }
+}
+
+/// Every noise channel needs a finite standard deviation ≥ 0 and a finite bias.
+fn check_noise(noise: &SensorNoise) -> Result<(), String> {
+    let value = serde_json::to_value(noise).map_err(|e| format!("noise: {e}"))?;
+    let Some(channels) = value.as_object() else {
+        return Ok(());
+    };
+    for (channel, n) in channels {
+        let get = |k: &str| n.get(k).and_then(|x| x.as_f64());
+        match (get("std"), get("bias")) {
+            (Some(std), Some(bias)) if std >= 0.0 && std.is_finite() && bias.is_finite() => {}
+            (std, _) if !std.is_some_and(|s| s >= 0.0 && s.is_finite()) => {
+                return Err(format!(
+                    "noise.{channel}.std: must be a finite number ≥ 0, got {}",
+                    std.map_or("non-finite".to_string(), |s| s.to_string())
+                ))
+            }
+            _ => return Err(format!("noise.{channel}.bias: must be finite")),
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_fill_a_minimal_file() {
+        let s = Scenario::parse("duration = 1.5").unwrap();
+        assert_eq!(s.duration, 1.5);
+        assert_eq!(s.terrain.preset, TerrainPreset::Flat);
+        assert_eq!(s.terrain.mu, 0.8);
+        assert_eq!(s.initial.configuration, "half_sitting");
+        assert!(s.initial.place_on_ground && s.output.plots);
+        assert_eq!(s.actuation.mode, ActuationMode::Position);
+        assert_eq!(s.sim, SimSettings::default());
+    }
+
+    #[test]
+    fn errors_are_one_line_naming_the_key() {
+        let cases = [
+            ("duraton = 1", "unknown field `duraton`"),
+            ("duration = 1\n[terrain]\npreset = \"moon\"", "terrain.preset"),
+            ("duration = -1", "duration: must be a positive"),
+            ("duration = 1\n[sim]\ncontrol_dt = 0", "sim.control_dt"),
+            ("duration = 1\n[noise.force]\nstd = -1", "noise.force.std"),
+            (
+                "duration = 1\n[[push]]\nframe = \"x\"\nstart = -1\nduration = 0.1\nforce = [1, 0, 0]",
+                "push[0].start",
+            ),
+            ("duration = 1\n[sim]\nintegrator = \"leapfrog\"", "sim.integrator"),
+            ("duration = ", "line 1"),
+            ("duration = 1\nduration = 2", "line 2: duplicate key `duration`"),
+        ];
+        for (text, expected) in cases {
+            let e = Scenario::parse(text).unwrap_err();
+            assert!(e.contains(expected), "{text:?}: {e}");
+            assert!(!e.contains('\n'), "{text:?}: {e}");
+        }
+    }
+}
