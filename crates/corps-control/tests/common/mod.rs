@@ -1,0 +1,119 @@
+//! A TSID-style standing controller for TALOS in the corps simulator, shared by the
+//! closed-loop tests. Gains and weights are those of the TSID anchor harness
+//! (../shared/tools/anchors/README.md: CoM Kp 20, posture Kp 10 w 0.1, angular momentum Kp 10
+//! w 0.02, contacts Kp 30, μ 0.3, 1 ≤ Σfz ≤ 1000 N), Kd = 2√Kp.
+#![allow(dead_code)]
+
+use corps_control::contacts::Contact6d;
+use corps_control::formulation::InverseDynamics;
+use corps_control::tasks::{AngularMomentumTask, ComTask, PostureTask, Reference, Se3Reference};
+use corps_control::RobotState;
+use corps_model::spatial::Motion;
+use corps_model::{build_model_from_urdf_file, load_reference_configurations, Model, RootJoint};
+use corps_sim::*;
+use nalgebra::{DVector, Vector3, Vector6};
+use std::sync::Arc;
+
+pub fn talos_box() -> Arc<Model> {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../");
+    let mut m = build_model_from_urdf_file(
+        format!("{root}robots/talos_data/robots/talos_reduced_box.urdf"),
+        RootJoint::FreeFlyer,
+    )
+    .unwrap();
+    load_reference_configurations(&mut m, format!("{root}robots/talos_data/srdf/talos.srdf"))
+        .unwrap();
+    Arc::new(m)
+}
+
+/// Contact settings under which the torque loop is stable (see the crate docs): 10× the
+/// default stiffness, 0.25 ms physics steps.
+pub fn stiff_settings() -> SimSettings {
+    let mut s = SimSettings {
+        substeps: 4,
+        ..SimSettings::default()
+    };
+    s.contact.normal_stiffness = 4e8;
+    s.contact.tangential_stiffness = 4e8;
+    s
+}
+
+/// TALOS settled in half-sitting under the PD hold (0.5 s), and its initial configuration.
+pub fn settled_talos(settings: SimSettings) -> (Simulator, DVector<f64>) {
+    let model = talos_box();
+    let mut q0 = model
+        .reference_configuration("half_sitting")
+        .unwrap()
+        .clone();
+    place_on_ground(&model, q0.as_mut_slice(), 0.0).unwrap();
+    let gains = ServoGains::high_gain(&model, q0.as_slice(), 0.02, 1.0).unwrap();
+    let mut sim = Simulator::new(
+        model.clone(),
+        Terrain::preset(TerrainPreset::Flat, 0.8),
+        settings,
+        q0.as_slice(),
+        gains,
+    )
+    .unwrap();
+    let hold = Command::Position {
+        q_ref: q0.clone(),
+        v_ref: DVector::zeros(model.nv - 6),
+    };
+    for _ in 0..500 {
+        sim.step(&hold).unwrap();
+    }
+    (sim, q0)
+}
+
+/// The standing controller, with references taken at `state`.
+pub fn standing_controller(
+    model: &Model,
+    state: &RobotState,
+    q_posture: &DVector<f64>,
+) -> InverseDynamics {
+    let nv = model.nv;
+    let na = nv - 6;
+    let kd = |kp: f64| 2.0 * kp.sqrt();
+    let mut id = InverseDynamics::new(model);
+    let mut com = ComTask::new(nv, Vector3::repeat(20.0), Vector3::repeat(kd(20.0)));
+    com.reference = Reference::constant(DVector::from_column_slice(state.data.com.as_slice()));
+    id.com = Some((com, 1.0));
+    id.posture = Some((
+        PostureTask::new(
+            model,
+            DVector::repeat(na, 10.0),
+            DVector::repeat(na, kd(10.0)),
+            q_posture.clone(),
+        ),
+        0.1,
+    ));
+    id.angular_momentum = Some((AngularMomentumTask::new(nv, Vector3::repeat(10.0)), 0.02));
+    for frame in ["leg_left_sole_fix_joint", "leg_right_sole_fix_joint"] {
+        let fid = model.frame_id(frame).unwrap();
+        let placement = state.frame_placement(model, fid).unwrap();
+        let pts = [(0.1, 0.065), (0.1, -0.065), (-0.1, 0.065), (-0.1, -0.065)]
+            .map(|(x, y)| Vector3::new(x, y, 0.0));
+        let reference = Se3Reference {
+            placement,
+            velocity: Motion::zero(),
+            acceleration: Motion::zero(),
+        };
+        id.contacts.push(Contact6d::new(
+            model,
+            frame,
+            fid,
+            pts,
+            Vector3::z(),
+            0.3,
+            (1.0, 1000.0),
+            Vector6::repeat(30.0),
+            Vector6::repeat(kd(30.0)),
+            reference,
+        ));
+    }
+    id.actuation = Some((
+        -model.effort_limit.rows(6, na).into_owned(),
+        model.effort_limit.rows(6, na).into_owned(),
+    ));
+    id
+}
