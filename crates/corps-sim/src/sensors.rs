@@ -40,6 +40,26 @@ pub struct SensorNoise {
     pub base_angular_velocity: Noise,
 }
 
+impl SensorNoise {
+    /// Every channel with its name, as in the scenario file.
+    pub fn channels(&self) -> [(&'static str, Noise); 12] {
+        [
+            ("encoders", self.encoders),
+            ("joint_velocities", self.joint_velocities),
+            ("joint_torques", self.joint_torques),
+            ("force", self.force),
+            ("torque", self.torque),
+            ("imu_orientation", self.imu_orientation),
+            ("imu_angular_velocity", self.imu_angular_velocity),
+            ("imu_linear_acceleration", self.imu_linear_acceleration),
+            ("base_position", self.base_position),
+            ("base_orientation", self.base_orientation),
+            ("base_linear_velocity", self.base_linear_velocity),
+            ("base_angular_velocity", self.base_angular_velocity),
+        ]
+    }
+}
+
 /// Where the sensors are: F/T sensor frames (name → frame) and the IMU frame.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -151,15 +171,11 @@ impl Sensors {
             Some(frame) => place("imu", frame)?,
             None => (0, Se3::identity()),
         };
-        for (name, x) in [
-            ("encoders", noise.encoders),
-            ("force", noise.force),
-            ("imu_orientation", noise.imu_orientation),
-        ] {
+        for (name, x) in noise.channels() {
             if !(x.std >= 0.0 && x.std.is_finite() && x.bias.is_finite()) {
                 return Err(SimError::Setting {
                     name: format!("noise.{name}"),
-                    reason: "std must be ≥ 0 and finite".into(),
+                    reason: "std must be ≥ 0 and finite, bias finite".into(),
                 });
             }
         }

@@ -103,3 +103,18 @@ fn unknown_sensor_frames_are_named_in_the_error() {
         .to_string();
     assert!(e.contains("left") && e.contains("no_such_frame"), "{e}");
 }
+
+#[test]
+fn every_noise_channel_is_validated() {
+    let model = talos();
+    let mut noise = SensorNoise::default();
+    noise.base_angular_velocity = Noise {
+        std: -1.0,
+        bias: 0.0,
+    };
+    let e = Sensors::new(&model, &SensorLayout::default(), noise, 0)
+        .err()
+        .expect("rejected")
+        .to_string();
+    assert!(e.contains("noise.base_angular_velocity"), "{e}");
+}
