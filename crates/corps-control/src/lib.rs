@@ -15,9 +15,12 @@
 
 pub mod contacts;
 mod error;
+pub mod fallback;
 pub mod formulation;
 mod robot_state;
 pub mod tasks;
+pub mod trajectories;
 
 pub use error::{ControlError, Result};
+pub use fallback::{safe_torques, FallbackReason};
 pub use robot_state::RobotState;

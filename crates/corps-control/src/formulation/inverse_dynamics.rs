@@ -32,6 +32,19 @@ pub struct IdOutput {
     pub tau: DVector<f64>,
 }
 
+/// A contact whose normal-force bound ramps over time, so that adding or removing it does not
+/// make the force jump: removal lowers `fmax` linearly from the current normal force to 0,
+/// then drops the contact; addition raises `fmax` from 0 to its nominal value.
+#[derive(Clone, Debug, PartialEq)]
+struct Transition {
+    contact: String,
+    t0: f64,
+    duration: f64,
+    from: f64,
+    to: f64,
+    remove_at_end: bool,
+}
+
 /// The weighted inverse-dynamics controller.
 pub struct InverseDynamics {
     pub com: Option<(ComTask, f64)>,
@@ -46,6 +59,7 @@ pub struct InverseDynamics {
     pub problem: QpProblem,
     solver: ActiveSetSolver,
     pub output: IdOutput,
+    transitions: Vec<Transition>,
 }
 
 impl InverseDynamics {
@@ -68,7 +82,130 @@ impl InverseDynamics {
                 forces: DVector::zeros(0),
                 tau: DVector::zeros(na),
             },
+            transitions: Vec::new(),
         }
+    }
+
+    /// Index of the contact named `name`.
+    pub fn contact_index(&self, name: &str) -> Result<usize> {
+        self.contacts
+            .iter()
+            .position(|c| c.name == name)
+            .ok_or_else(|| ControlError::Config {
+                name: format!("contact '{name}'"),
+                reason: "no such active contact".into(),
+            })
+    }
+
+    /// Total normal force of contact `k` in the last solution (N).
+    pub fn normal_force(&self, k: usize) -> f64 {
+        let c = &self.contacts[k];
+        let f = &self.output.forces;
+        if f.len() < FORCE_VARS * (k + 1) {
+            return 0.0;
+        }
+        (0..4)
+            .map(|i| c.normal.dot(&f.fixed_rows::<3>(FORCE_VARS * k + 3 * i)))
+            .sum()
+    }
+
+    /// Starts removing contact `name` at time `t`: its force goes to zero over `duration` s,
+    /// then the contact is dropped (TSID `removeRigidContact(name, transition)`).
+    pub fn remove_contact(&mut self, name: &str, t: f64, duration: f64) -> Result<()> {
+        let k = self.contact_index(name)?;
+        let from = self.normal_force(k).max(self.contacts[k].fmin);
+        self.contacts[k].fmin = 0.0;
+        self.transitions.retain(|tr| tr.contact != name);
+        self.transitions.push(Transition {
+            contact: name.into(),
+            t0: t,
+            duration,
+            from,
+            to: 0.0,
+            remove_at_end: true,
+        });
+        Ok(())
+    }
+
+    /// Adds `contact` at time `t` with its normal-force bound raised from 0 to its `fmax`
+    /// over `duration` s.
+    pub fn add_contact(&mut self, mut contact: Contact6d, t: f64, duration: f64) {
+        let to = contact.fmax;
+        contact.fmax = 0.0;
+        let name = contact.name.clone();
+        self.contacts.push(contact);
+        self.transitions.retain(|tr| tr.contact != name);
+        self.transitions.push(Transition {
+            contact: name,
+            t0: t,
+            duration,
+            from: 0.0,
+            to,
+            remove_at_end: false,
+        });
+    }
+
+    /// Advances contact transitions to time `t` (call once per tick before `compute`).
+    pub fn update_transitions(&mut self, t: f64) {
+        let mut k_done = Vec::new();
+        for (i, tr) in self.transitions.iter().enumerate() {
+            let Some(k) = self.contacts.iter().position(|c| c.name == tr.contact) else {
+                k_done.push(i);
+                continue;
+            };
+            let s = if tr.duration > 0.0 {
+                ((t - tr.t0) / tr.duration).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
+            self.contacts[k].fmax = tr.from + (tr.to - tr.from) * s;
+            if s >= 1.0 {
+                if tr.remove_at_end {
+                    self.contacts.remove(k);
+                }
+                k_done.push(i);
+            }
+        }
+        for i in k_done.into_iter().rev() {
+            self.transitions.remove(i);
+        }
+    }
+
+    /// One control tick in torque mode: computes the model terms at (q, v), solves, and
+    /// writes the joint torques (na) to `tau`. When the state is not finite or the QP fails,
+    /// `tau` gets the safe command ([`crate::safe_torques`], damping `safe_damping`) and the
+    /// reason is returned; the controller keeps running at the next tick.
+    #[allow(clippy::too_many_arguments)]
+    pub fn tick(
+        &mut self,
+        model: &Model,
+        state: &mut RobotState,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        safe_damping: f64,
+        tau: &mut DVector<f64>,
+    ) -> Option<crate::FallbackReason> {
+        use crate::FallbackReason;
+        let reason = match (
+            model.check_configuration(q),
+            model.check_tangent("velocity v", v),
+        ) {
+            (Err(e), _) | (_, Err(e)) => Some(FallbackReason::BadState(e.to_string())),
+            _ => {
+                self.update_transitions(t);
+                let solved = state
+                    .update(model, q, v)
+                    .map_err(ControlError::from)
+                    .and_then(|_| self.compute(model, state).map(|_| ()));
+                solved.err().map(FallbackReason::Controller)
+            }
+        };
+        match reason {
+            None => tau.copy_from(&self.output.tau),
+            Some(_) => crate::safe_torques(model, &mut state.data, q, v, safe_damping, tau),
+        }
+        reason
     }
 
     /// Problem sizes (variables, equalities, inequalities) for the current contacts.

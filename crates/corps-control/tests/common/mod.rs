@@ -1,7 +1,8 @@
 //! A TSID-style standing controller for TALOS in the corps simulator, shared by the
-//! closed-loop tests. Gains and weights are those of the TSID anchor harness
-//! (../shared/tools/anchors/README.md: CoM Kp 20, posture Kp 10 w 0.1, angular momentum Kp 10
-//! w 0.02, contacts Kp 30, μ 0.3, 1 ≤ Σfz ≤ 1000 N), Kd = 2√Kp.
+//! closed-loop tests. Gains and weights from seed 000 Tables 5.1–5.2 (the thesis's TSID torque
+//! controller): CoM weight 50, Kp 50, Kd 5; posture weight 0.1, Kp 80, Kd 2√Kp; angular
+//! momentum weight 0.02, Kp 10; feet contacts Kp 30, Kd 2√Kp (hard constraints, as in ch. 4);
+//! μ 0.3 and 1 ≤ Σfz ≤ 1000 N as in the TSID anchor harness.
 #![allow(dead_code)]
 
 use corps_control::contacts::Contact6d;
@@ -75,14 +76,14 @@ pub fn standing_controller(
     let na = nv - 6;
     let kd = |kp: f64| 2.0 * kp.sqrt();
     let mut id = InverseDynamics::new(model);
-    let mut com = ComTask::new(nv, Vector3::repeat(20.0), Vector3::repeat(kd(20.0)));
+    let mut com = ComTask::new(nv, Vector3::repeat(50.0), Vector3::repeat(5.0));
     com.reference = Reference::constant(DVector::from_column_slice(state.data.com.as_slice()));
-    id.com = Some((com, 1.0));
+    id.com = Some((com, 50.0));
     id.posture = Some((
         PostureTask::new(
             model,
-            DVector::repeat(na, 10.0),
-            DVector::repeat(na, kd(10.0)),
+            DVector::repeat(na, 80.0),
+            DVector::repeat(na, kd(80.0)),
             q_posture.clone(),
         ),
         0.1,
