@@ -557,14 +557,32 @@ fn aba_world_accelerations_match_forward_kinematics() {
         let mut data = Data::new(&model);
         let mut fk = Data::new(&model);
         let (q, v, _, tau) = random_state(&model, 4);
-        let ddq = aba(&model, &mut data, q.as_slice(), v.as_slice(), tau.as_slice()).unwrap().clone();
+        let ddq = aba(
+            &model,
+            &mut data,
+            q.as_slice(),
+            v.as_slice(),
+            tau.as_slice(),
+        )
+        .unwrap()
+        .clone();
         forward_kinematics(&model, &mut fk, q.as_slice(), v.as_slice(), ddq.as_slice()).unwrap();
         let g = spatial::Motion::new(-model.gravity, nalgebra::Vector3::zeros());
         for i in 0..model.njoints() {
             let expected = fk.o_m_i[i].act_motion(&fk.a[i]) + g;
-            assert_close(&format!("{name} joint {i} world acceleration"), data.oa[i].to_vector().as_slice(), expected.to_vector().as_slice(), 1e-9);
+            assert_close(
+                &format!("{name} joint {i} world acceleration"),
+                data.oa[i].to_vector().as_slice(),
+                expected.to_vector().as_slice(),
+                1e-9,
+            );
             let ov = fk.o_m_i[i].act_motion(&fk.v[i]);
-            assert_close(&format!("{name} joint {i} world velocity"), data.ov[i].to_vector().as_slice(), ov.to_vector().as_slice(), 1e-12);
+            assert_close(
+                &format!("{name} joint {i} world velocity"),
+                data.ov[i].to_vector().as_slice(),
+                ov.to_vector().as_slice(),
+                1e-12,
+            );
         }
     }
 }

@@ -107,10 +107,12 @@ fn unknown_sensor_frames_are_named_in_the_error() {
 #[test]
 fn every_noise_channel_is_validated() {
     let model = talos();
-    let mut noise = SensorNoise::default();
-    noise.base_angular_velocity = Noise {
-        std: -1.0,
-        bias: 0.0,
+    let noise = SensorNoise {
+        base_angular_velocity: Noise {
+            std: -1.0,
+            bias: 0.0,
+        },
+        ..Default::default()
     };
     let e = Sensors::new(&model, &SensorLayout::default(), noise, 0)
         .err()
