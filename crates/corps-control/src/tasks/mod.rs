@@ -1,15 +1,18 @@
 //! Tasks: each maps the robot state to affine rows `A q̈ = b` over the joint accelerations
 //! (TSID's task-space acceleration form), with per-axis PD gains, a mask and a reference.
+//! The [`velocity`] tasks give rows `A v = b` over the joint velocities, for inverse
+//! kinematics.
 
 mod angular_momentum;
 mod com;
 mod posture;
 mod se3;
+pub mod velocity;
 
 pub use angular_momentum::AngularMomentumTask;
 pub use com::ComTask;
 pub use posture::PostureTask;
-pub use se3::{Se3Reference, Se3Task};
+pub use se3::{se3_error, Se3Reference, Se3Task};
 
 use nalgebra::{DMatrix, DVector};
 

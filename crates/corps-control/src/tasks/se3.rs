@@ -17,6 +17,15 @@ pub struct Se3Reference {
     pub acceleration: Motion,
 }
 
+/// The pose error of a frame at world placement `o_m_f` towards `m_ref`, in the frame's
+/// LOCAL coordinates (TSID's `TaskSE3Equality`): `M_err = oMf⁻¹ M_ref`,
+/// `e = [M_err.t; log3(M_err.R)]` ([linear; angular]). A LOCAL frame velocity `K∘e` (or
+/// acceleration) drives the frame towards `m_ref`.
+pub fn se3_error(o_m_f: &Se3, m_ref: &Se3) -> Motion {
+    let err = o_m_f.inverse() * *m_ref;
+    Motion::new(err.translation, log3(&err.rotation))
+}
+
 pub struct Se3Task {
     pub frame: usize,
     pub kp: Vector6<f64>,
@@ -52,8 +61,7 @@ impl Se3Task {
     /// Desired LOCAL frame acceleration minus the drift, and the LOCAL Jacobian.
     pub fn compute(&mut self, model: &Model, s: &RobotState) -> Result<&TaskRows> {
         let o_m_f = s.frame_placement(model, self.frame)?;
-        let err = o_m_f.inverse() * self.reference.placement;
-        let p_err = Motion::new(err.translation, log3(&err.rotation));
+        let p_err = se3_error(&o_m_f, &self.reference.placement);
         let rt = o_m_f.rotation.transpose();
         let v_f = s.frame_velocity_local(model, self.frame)?;
         let v_ref = Motion::new(
