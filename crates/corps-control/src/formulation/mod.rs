@@ -1,5 +1,7 @@
 //! Formulations: stack tasks and contacts into one QP per tick.
 
 mod inverse_dynamics;
+mod inverse_kinematics;
 
 pub use inverse_dynamics::{IdOutput, InverseDynamics};
+pub use inverse_kinematics::{IkEntry, IkGains, IkOutput, IkTask, InverseKinematics, StackFrames};
