@@ -28,6 +28,8 @@ pub struct Contact6d {
     pub force_reference: Vector6<f64>,
     /// `Jc = Tᵀ J` (12 × nv): corner point Jacobians, LOCAL.
     pub jc: DMatrix<f64>,
+    /// `T` (6 × 12), refreshed by `compute` from `points`.
+    pub t: DMatrix<f64>,
 }
 
 /// Rows of the friction pyramid per corner, then one row for the total normal force.
@@ -62,6 +64,7 @@ impl Contact6d {
             force_reg_components: Vector6::new(1.0, 1.0, 1e-3, 2.0, 2.0, 2.0),
             force_reference: Vector6::zeros(),
             jc: DMatrix::zeros(FORCE_VARS, model.nv),
+            t: DMatrix::zeros(6, FORCE_VARS),
         }
     }
 
@@ -79,9 +82,9 @@ impl Contact6d {
         w
     }
 
-    /// `T` (6 × 12).
-    pub fn generator(&self) -> DMatrix<f64> {
-        let mut t = DMatrix::zeros(6, FORCE_VARS);
+    /// Writes `T` (6 × 12) into `t`.
+    pub fn write_generator(&self, t: &mut DMatrix<f64>) {
+        t.fill(0.0);
         for (i, p) in self.points.iter().enumerate() {
             for k in 0..3 {
                 t[(k, 3 * i + k)] = 1.0;
@@ -93,7 +96,6 @@ impl Contact6d {
                 }
             }
         }
-        t
     }
 
     /// The motion rows computed by the last `compute`.
@@ -103,6 +105,9 @@ impl Contact6d {
 
     /// Updates the motion rows and `Jc = Tᵀ J` at the state.
     pub fn compute(&mut self, model: &Model, s: &RobotState) -> Result<&TaskRows> {
+        let mut t = std::mem::take(&mut self.t);
+        self.write_generator(&mut t);
+        self.t = t;
         let rows = self.motion.compute(model, s)?;
         // Corner i: velocity of point p_i = J_lin − p_i × J_ang (column-wise).
         for (i, p) in self.points.iter().enumerate() {

@@ -227,11 +227,16 @@ impl InverseDynamics {
         let nv = model.nv;
         let first = self.first;
         let p = &mut self.problem;
-        p.h.fill(0.0);
-        p.g.fill(0.0);
-        p.a.fill(0.0);
-        p.b.fill(0.0);
-        p.c.fill(0.0);
+        // Contiguous fills (DMatrix::fill walks nalgebra's strided iterator, 10× slower here).
+        for buf in [
+            p.h.as_mut_slice(),
+            p.g.as_mut_slice(),
+            p.a.as_mut_slice(),
+            p.b.as_mut_slice(),
+            p.c.as_mut_slice(),
+        ] {
+            buf.fill(0.0);
+        }
         let m = &s.data.m;
         let h = &s.data.nle;
         // Contacts first: their Jacobians enter the dynamics rows.
@@ -262,7 +267,7 @@ impl InverseDynamics {
             }
             let col = nv + FORCE_VARS * k;
             contact.force_constraints(&mut p.c, &mut p.l, &mut p.u, FORCE_ROWS * k, col);
-            let t = contact.generator();
+            let t = &contact.t;
             let w = contact.force_reg_weight;
             let cw = &contact.force_reg_components;
             // ‖diag(cw) (T f − f_ref)‖² weighted by w.
@@ -348,26 +353,28 @@ impl InverseDynamics {
     }
 }
 
-/// `H += w AᵀA` and `g −= w Aᵀ b` over the first `A.ncols()` variables.
+/// `H += w AᵀA` and `g −= w Aᵀ b` over the first `A.ncols()` variables. A is column-major,
+/// so each column `a_i` is a contiguous slice: `H_ij += w a_i·a_j` over the upper triangle.
 fn add_least_squares(h: &mut DMatrix<f64>, g: &mut DVector<f64>, rows: &TaskRows, w: f64) {
-    let n = rows.a.ncols();
+    let (m, n) = (rows.a.nrows(), rows.a.ncols());
+    let nh = h.nrows();
+    let a = rows.a.as_slice();
+    let b = rows.b.as_slice();
+    let hs = h.as_mut_slice();
     for i in 0..n {
+        let ai = &a[i * m..(i + 1) * m];
+        if ai.iter().all(|x| *x == 0.0) {
+            continue;
+        }
         for j in i..n {
-            let mut acc = 0.0;
-            for r in 0..rows.rows() {
-                acc += rows.a[(r, i)] * rows.a[(r, j)];
-            }
-            if acc != 0.0 {
-                h[(i, j)] += w * acc;
-                if i != j {
-                    h[(j, i)] += w * acc;
-                }
+            let aj = &a[j * m..(j + 1) * m];
+            let acc: f64 = ai.iter().zip(aj).map(|(x, y)| x * y).sum();
+            hs[j * nh + i] += w * acc;
+            if i != j {
+                hs[i * nh + j] += w * acc;
             }
         }
-        let mut acc = 0.0;
-        for r in 0..rows.rows() {
-            acc += rows.a[(r, i)] * rows.b[r];
-        }
+        let acc: f64 = ai.iter().zip(b).map(|(x, y)| x * y).sum();
         g[i] -= w * acc;
     }
 }

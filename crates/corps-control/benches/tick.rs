@@ -1,0 +1,64 @@
+//! One control tick of the inverse-dynamics controller on TALOS standing on two 6D contacts
+//! with CoM, posture, angular-momentum and actuation-bound tasks: exactly TSID's anchor problem
+//! (62 variables, 18 equalities, 66 inequalities), cycling over the 25 states TSID recorded.
+//! Split as TSID's harness splits it: problem data (model terms), QP assembly, QP solve, and the
+//! whole tick. Run: `cargo bench -p corps-control --bench tick`; TSID side:
+//! `bash tools/bench/run_tsid_bench.sh`.
+
+#[path = "../tests/common/tsid.rs"]
+mod tsid;
+use corps_control::RobotState;
+use corps_model::{build_model_from_urdf_file, RootJoint};
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+use tsid::*;
+
+fn bench(c: &mut Criterion) {
+    let model = build_model_from_urdf_file(
+        repo("robots/talos_data/robots/talos_reduced.urdf"),
+        RootJoint::FreeFlyer,
+    )
+    .expect("TALOS");
+    let ticks = ticks();
+    let states: Vec<(Vec<f64>, Vec<f64>)> = ticks
+        .iter()
+        .map(|t| (vecf(&t["q"]), vecf(&t["v"])))
+        .collect();
+    let mut id = configure(&model, &ticks[0]);
+    let mut state = RobotState::new(&model);
+    let mut g = c.benchmark_group("talos_id_tick");
+    let mut k = 0usize;
+    g.bench_function("problem_data", |b| {
+        b.iter(|| {
+            k = (k + 1) % states.len();
+            black_box(state.update(&model, &states[k].0, &states[k].1)).expect("state")
+        })
+    });
+    state
+        .update(&model, &states[0].0, &states[0].1)
+        .expect("state");
+    g.bench_function("qp_assembly", |b| {
+        b.iter(|| black_box(id.build(&model, &state)).expect("build"))
+    });
+    let mut solver = corps_qp::ActiveSetSolver::new(62, 18, 66);
+    g.bench_function("qp_solve", |b| {
+        b.iter(|| black_box(solver.solve(&id.problem).map(|s| s.x[0])).expect("solve"))
+    });
+    g.bench_function("whole_tick", |b| {
+        b.iter(|| {
+            k = (k + 1) % states.len();
+            state
+                .update(&model, &states[k].0, &states[k].1)
+                .expect("state");
+            black_box(id.compute(&model, &state).map(|o| o.tau[0])).expect("tick")
+        })
+    });
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().warm_up_time(std::time::Duration::from_millis(500)).measurement_time(std::time::Duration::from_secs(3));
+    targets = bench
+}
+criterion_main!(benches);

@@ -1,0 +1,70 @@
+//! A control tick (model terms, QP assembly, solve, torques) allocates nothing once the
+//! controller is set up: counting global allocator, per thread.
+
+#[path = "common/tsid.rs"]
+mod tsid;
+use corps_control::RobotState;
+use corps_model::{build_model_from_urdf_file, RootJoint};
+use nalgebra::DVector;
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use tsid::*;
+
+struct Counting;
+
+thread_local! {
+    static ALLOCS: Cell<usize> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        System.alloc(l)
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        System.dealloc(p, l)
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+        System.realloc(p, l, n)
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn a_control_tick_does_not_allocate() {
+    let model = build_model_from_urdf_file(
+        repo("robots/talos_data/robots/talos_reduced.urdf"),
+        RootJoint::FreeFlyer,
+    )
+    .unwrap();
+    let ticks = ticks();
+    let states: Vec<(Vec<f64>, Vec<f64>)> = ticks
+        .iter()
+        .map(|t| (vecf(&t["q"]), vecf(&t["v"])))
+        .collect();
+    let mut id = configure(&model, &ticks[0]);
+    let mut state = RobotState::new(&model);
+    let mut tau = DVector::zeros(model.nv - 6);
+    // First tick sizes the QP.
+    assert!(id
+        .tick(
+            &model,
+            &mut state,
+            0.0,
+            &states[0].0,
+            &states[0].1,
+            5.0,
+            &mut tau
+        )
+        .is_none());
+    let before = ALLOCS.with(|c| c.get());
+    for (q, v) in &states {
+        let r = id.tick(&model, &mut state, 0.001, q, v, 5.0, &mut tau);
+        assert!(r.is_none(), "{r:?}");
+    }
+    let n = ALLOCS.with(|c| c.get()) - before;
+    assert_eq!(n, 0, "{n} heap allocations in {} ticks", states.len());
+}
