@@ -3,8 +3,8 @@
 
 use corps_model::spatial::{Force, Motion, Se3};
 use corps_model::{
-    center_of_mass, centroidal_momentum_drift, compute_all_terms, frame_classical_acceleration,
-    frame_jacobian, frame_placement, frame_velocity, Data, Model, ReferenceFrame, Result,
+    com_and_momentum_drifts, compute_all_terms, frame_classical_acceleration, frame_jacobian,
+    frame_placement, frame_velocity, Data, Model, ReferenceFrame, Result,
 };
 use nalgebra::{DVector, Matrix6xX, Vector3};
 
@@ -21,7 +21,6 @@ pub struct RobotState {
     /// Configuration and velocity of this state.
     pub q: DVector<f64>,
     pub v: DVector<f64>,
-    zero: DVector<f64>,
 }
 
 impl RobotState {
@@ -33,18 +32,18 @@ impl RobotState {
             momentum_drift: Force::zero(),
             q: DVector::zeros(model.nq),
             v: DVector::zeros(model.nv),
-            zero: DVector::zeros(model.nv),
         }
     }
 
     /// Computes every term at (q, v). No allocation.
     pub fn update(&mut self, model: &Model, q: &[f64], v: &[f64]) -> Result<()> {
         compute_all_terms(model, &mut self.data, q, v)?;
-        self.momentum_drift = centroidal_momentum_drift(model, &mut self.data, q, v)?;
-        // Forward kinematics at q̈ = 0 (inside center_of_mass) leaves the frame drifts.
-        center_of_mass(model, &mut self.data, q, v, self.zero.as_slice())?;
-        self.com_velocity = self.data.vcom;
-        self.com_drift = self.data.acom;
+        // One kinematic pass at q̈ = 0 gives both drifts and leaves the frame drifts.
+        let (com_drift, momentum_drift) = com_and_momentum_drifts(model, &mut self.data, q, v)?;
+        self.com_drift = com_drift;
+        self.momentum_drift = momentum_drift;
+        self.com_velocity =
+            Vector3::from_fn(|r, _| (0..model.nv).map(|c| self.data.jcom[(r, c)] * v[c]).sum());
         self.q.copy_from_slice(q);
         self.v.copy_from_slice(v);
         Ok(())

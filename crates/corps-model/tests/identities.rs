@@ -586,3 +586,31 @@ fn aba_world_accelerations_match_forward_kinematics() {
         }
     }
 }
+
+#[test]
+fn one_pass_drifts_match_the_separate_algorithms() {
+    for (name, model) in robots() {
+        let mut a = Data::new(&model);
+        let mut b = Data::new(&model);
+        let (q, v, ..) = random_state(&model, 9);
+        let zero = DVector::zeros(model.nv);
+        compute_all_terms(&model, &mut a, q.as_slice(), v.as_slice()).unwrap();
+        let (acom, dag) =
+            com_and_momentum_drifts(&model, &mut a, q.as_slice(), v.as_slice()).unwrap();
+        let dag_ref =
+            centroidal_momentum_drift(&model, &mut b, q.as_slice(), v.as_slice()).unwrap();
+        center_of_mass(&model, &mut b, q.as_slice(), v.as_slice(), zero.as_slice()).unwrap();
+        assert_close(
+            &format!("{name} J̇com v"),
+            acom.as_slice(),
+            b.acom.as_slice(),
+            1e-12,
+        );
+        assert_close(
+            &format!("{name} Ȧ_G v"),
+            dag.to_vector().as_slice(),
+            dag_ref.to_vector().as_slice(),
+            1e-12,
+        );
+    }
+}

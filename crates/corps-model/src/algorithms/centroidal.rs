@@ -125,3 +125,33 @@ pub fn center_of_mass(
     data.acom = ac * inv;
     Ok(data.com)
 }
+
+/// Both drifts a whole-body controller needs at q̈ = 0, from one kinematic pass: the CoM
+/// acceleration J̇com v (`data.acom`) and the centroidal momentum rate Ȧ_G v (`data.dag_v`,
+/// about `data.com`). Needs `data.com` at q (e.g. from [`crate::compute_all_terms`]); leaves
+/// the q̈ = 0 local velocities and accelerations in `data.v`, `data.a` (frame drifts).
+pub fn com_and_momentum_drifts(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    v: &[f64],
+) -> Result<(Vector3<f64>, Force)> {
+    model.check_configuration(q)?;
+    check_vector("velocity v", v, model.nv)?;
+    motion_pass(model, data, q, Some(v), None);
+    let (mut m, mut ac, mut rate) = (0.0, Vector3::zeros(), Force::zero());
+    for i in 0..model.njoints() {
+        let inertia = &model.inertias[i];
+        let (vi, ai) = (data.v[i], data.a[i]);
+        let l = inertia.lever;
+        let vp = vi.point_velocity(&l);
+        m += inertia.mass;
+        ac +=
+            data.o_m_i[i].rotation * (ai.point_velocity(&l) + vi.angular.cross(&vp)) * inertia.mass;
+        let f = inertia.mul_motion(&ai) + vi.cross_force(&inertia.mul_motion(&vi));
+        rate += data.o_m_i[i].act_force(&f);
+    }
+    data.acom = if m > 0.0 { ac / m } else { Vector3::zeros() };
+    data.dag_v = rate.shifted_to(&data.com);
+    Ok((data.acom, data.dag_v))
+}
