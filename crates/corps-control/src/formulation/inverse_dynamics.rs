@@ -60,6 +60,7 @@ pub struct InverseDynamics {
     solver: ActiveSetSolver,
     pub output: IdOutput,
     transitions: Vec<Transition>,
+    scratch: DVector<f64>,
 }
 
 impl InverseDynamics {
@@ -83,6 +84,7 @@ impl InverseDynamics {
                 tau: DVector::zeros(na),
             },
             transitions: Vec::new(),
+            scratch: DVector::zeros(model.nv),
         }
     }
 
@@ -243,28 +245,26 @@ impl InverseDynamics {
         for contact in &mut self.contacts {
             contact.compute(model, s)?;
         }
-        // Floating-base dynamics rows.
+        // Floating-base dynamics rows: [M_u  −Jc_uᵀ] x = −h_u.
+        copy_block(&mut p.a, (0, 0), m, (0, 0), (first, nv));
+        for (k, contact) in self.contacts.iter().enumerate() {
+            copy_block_neg_transposed(
+                &mut p.a,
+                (0, nv + FORCE_VARS * k),
+                &contact.jc,
+                (0, 0),
+                (first, FORCE_VARS),
+            );
+        }
         for r in 0..first {
-            for c in 0..nv {
-                p.a[(r, c)] = m[(r, c)];
-            }
-            for (k, contact) in self.contacts.iter().enumerate() {
-                for j in 0..FORCE_VARS {
-                    p.a[(r, nv + FORCE_VARS * k + j)] = -contact.jc[(j, r)];
-                }
-            }
             p.b[r] = -h[r];
         }
         // Contact motion rows, friction rows and force regularization.
         for (k, contact) in self.contacts.iter().enumerate() {
             let rows = &contact.motion_rows();
             let r0 = first + 6 * k;
-            for r in 0..6 {
-                for c in 0..nv {
-                    p.a[(r0 + r, c)] = rows.a[(r, c)];
-                }
-                p.b[r0 + r] = rows.b[r];
-            }
+            copy_block(&mut p.a, (r0, 0), &rows.a, (0, 0), (6, nv));
+            p.b.rows_mut(r0, 6).copy_from(&rows.b);
             let col = nv + FORCE_VARS * k;
             contact.force_constraints(&mut p.c, &mut p.l, &mut p.u, FORCE_ROWS * k, col);
             let t = &contact.t;
@@ -289,23 +289,27 @@ impl InverseDynamics {
         // Actuation bounds.
         if let Some((lower, upper)) = &self.actuation {
             let r0 = FORCE_ROWS * self.contacts.len();
-            for k in 0..nv - first {
-                let r = first + k;
-                for c in 0..nv {
-                    p.c[(r0 + k, c)] = m[(r, c)];
-                }
-                for (ci, contact) in self.contacts.iter().enumerate() {
-                    for j in 0..FORCE_VARS {
-                        p.c[(r0 + k, nv + FORCE_VARS * ci + j)] = -contact.jc[(j, r)];
-                    }
-                }
-                p.l[r0 + k] = lower[k] - h[r];
-                p.u[r0 + k] = upper[k] - h[r];
+            let na = nv - first;
+            // [M_a  −Jc_aᵀ] x within [τ_min − h_a, τ_max − h_a].
+            copy_block(&mut p.c, (r0, 0), m, (first, 0), (na, nv));
+            for (ci, contact) in self.contacts.iter().enumerate() {
+                copy_block_neg_transposed(
+                    &mut p.c,
+                    (r0, nv + FORCE_VARS * ci),
+                    &contact.jc,
+                    (0, first),
+                    (na, FORCE_VARS),
+                );
+            }
+            for k in 0..na {
+                p.l[r0 + k] = lower[k] - h[first + k];
+                p.u[r0 + k] = upper[k] - h[first + k];
             }
         }
         // Cost terms on q̈.
+        let row = self.scratch.as_mut_slice();
         if let Some((task, w)) = &mut self.com {
-            add_least_squares(&mut p.h, &mut p.g, task.compute(s), *w);
+            add_least_squares(&mut p.h, &mut p.g, task.compute(s), *w, row);
         }
         if let Some((task, w)) = &mut self.posture {
             let rows = task.compute(model, s);
@@ -315,10 +319,10 @@ impl InverseDynamics {
             }
         }
         if let Some((task, w)) = &mut self.angular_momentum {
-            add_least_squares(&mut p.h, &mut p.g, task.compute(s), *w);
+            add_least_squares(&mut p.h, &mut p.g, task.compute(s), *w, row);
         }
         for (task, w) in &mut self.frames {
-            add_least_squares(&mut p.h, &mut p.g, task.compute(model, s)?, *w);
+            add_least_squares(&mut p.h, &mut p.g, task.compute(model, s)?, *w, row);
         }
         for i in 0..n {
             p.h[(i, i)] += HESSIAN_REGULARIZATION;
@@ -353,28 +357,70 @@ impl InverseDynamics {
     }
 }
 
-/// `H += w AᵀA` and `g −= w Aᵀ b` over the first `A.ncols()` variables. A is column-major,
-/// so each column `a_i` is a contiguous slice: `H_ij += w a_i·a_j` over the upper triangle.
-fn add_least_squares(h: &mut DMatrix<f64>, g: &mut DVector<f64>, rows: &TaskRows, w: f64) {
+/// `H += w AᵀA` and `g −= w Aᵀ b` over the first `A.ncols()` variables, as one rank-1 update
+/// `w a_r a_rᵀ` per task row (contiguous inner loops over H's columns); `row` is scratch of at
+/// least `A.ncols()` entries.
+fn add_least_squares(
+    h: &mut DMatrix<f64>,
+    g: &mut DVector<f64>,
+    rows: &TaskRows,
+    w: f64,
+    row: &mut [f64],
+) {
     let (m, n) = (rows.a.nrows(), rows.a.ncols());
     let nh = h.nrows();
     let a = rows.a.as_slice();
-    let b = rows.b.as_slice();
     let hs = h.as_mut_slice();
-    for i in 0..n {
-        let ai = &a[i * m..(i + 1) * m];
-        if ai.iter().all(|x| *x == 0.0) {
-            continue;
+    let row = &mut row[..n];
+    for r in 0..m {
+        for (i, x) in row.iter_mut().enumerate() {
+            *x = a[i * m + r];
         }
-        for j in i..n {
-            let aj = &a[j * m..(j + 1) * m];
-            let acc: f64 = ai.iter().zip(aj).map(|(x, y)| x * y).sum();
-            hs[j * nh + i] += w * acc;
-            if i != j {
-                hs[i * nh + j] += w * acc;
+        let br = w * rows.b[r];
+        for (j, aj) in row.iter().enumerate() {
+            g[j] -= br * aj;
+            if *aj == 0.0 {
+                continue;
+            }
+            let s = w * aj;
+            for (hij, ai) in hs[j * nh..j * nh + n].iter_mut().zip(row.iter()) {
+                *hij += s * ai;
             }
         }
-        let acc: f64 = ai.iter().zip(b).map(|(x, y)| x * y).sum();
-        g[i] -= w * acc;
+    }
+}
+
+/// `dst[dr.., dc..] = src[sr.., sc..]` over a `rows × cols` block, column by column.
+fn copy_block(
+    dst: &mut DMatrix<f64>,
+    (dr, dc): (usize, usize),
+    src: &DMatrix<f64>,
+    (sr, sc): (usize, usize),
+    (rows, cols): (usize, usize),
+) {
+    let (nd, ns) = (dst.nrows(), src.nrows());
+    let (d, s) = (dst.as_mut_slice(), src.as_slice());
+    for c in 0..cols {
+        let from = (sc + c) * ns + sr;
+        let to = (dc + c) * nd + dr;
+        d[to..to + rows].copy_from_slice(&s[from..from + rows]);
+    }
+}
+
+/// `dst[dr + r, dc + c] = −src[sr + c, sc + r]`: a negated transposed block (`−Jcᵀ`).
+fn copy_block_neg_transposed(
+    dst: &mut DMatrix<f64>,
+    (dr, dc): (usize, usize),
+    src: &DMatrix<f64>,
+    (sr, sc): (usize, usize),
+    (rows, cols): (usize, usize),
+) {
+    let (nd, ns) = (dst.nrows(), src.nrows());
+    let (d, s) = (dst.as_mut_slice(), src.as_slice());
+    for c in 0..cols {
+        let to = (dc + c) * nd + dr;
+        for (r, x) in d[to..to + rows].iter_mut().enumerate() {
+            *x = -s[(sc + r) * ns + sr + c];
+        }
     }
 }
