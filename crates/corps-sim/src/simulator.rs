@@ -6,12 +6,15 @@ use crate::contact::{point_force, Anchor, ContactParams};
 use crate::contact_points::{sample_contact_points, ContactPoint, ShapeBound};
 use crate::disturbance::Push;
 use crate::error::{Result, SimError};
-use crate::terrain::Terrain;
+use crate::terrain::{Surface, Terrain};
 use corps_model::spatial::{Force, Motion, Se3};
 use corps_model::{aba_with_external_forces, integrate_to, Data, Model};
 use nalgebra::{DVector, Vector3};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
+
+/// Planes tested in each body's frame (larger terrains fall back to world-frame tests).
+const MAX_LOCAL_PLANES: usize = 8;
 
 /// Time integration scheme.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -445,8 +448,39 @@ impl Simulator {
                         continue;
                     }
                     let twist: &Motion = &ov[b.joint];
+                    // Planes in the body frame: a point can touch plane (n, p₀) only if
+                    // d − n_l·p_l > −r with n_l = Rᵀn, d = n·(p₀ − t); one dot product per point
+                    // instead of a transform. Boxes are tested in the world.
+                    let mut planes = [(Vector3::zeros(), 0.0); MAX_LOCAL_PLANES];
+                    let mut n_planes = 0;
+                    let mut needs_world_test = terrain.surfaces.len() > MAX_LOCAL_PLANES;
+                    for surface in &terrain.surfaces {
+                        match surface {
+                            Surface::Plane { point, normal, .. } if n_planes < MAX_LOCAL_PLANES => {
+                                planes[n_planes] = (
+                                    m.rotation.tr_mul(normal),
+                                    normal.dot(&(point - m.translation)),
+                                );
+                                n_planes += 1;
+                            }
+                            _ => needs_world_test = true,
+                        }
+                    }
                     for k in b.points.clone() {
                         let pt = &points[k];
+                        let near = needs_world_test
+                            || planes[..n_planes]
+                                .iter()
+                                .any(|(n, d)| d - n.dot(&pt.local) > -pt.radius);
+                        if !near {
+                            if record {
+                                contact.point_forces[k] = Vector3::zeros();
+                                contact.point_positions[k] = m.act_point(&pt.local);
+                                changed |= anchors[k].active;
+                                anchors[k] = Anchor::default();
+                            }
+                            continue;
+                        }
                         let p = m.act_point(&pt.local);
                         let pf = point_force(
                             terrain,
