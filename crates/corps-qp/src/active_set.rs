@@ -14,7 +14,7 @@
 
 use crate::cholesky;
 use crate::givens::Givens;
-use crate::linalg::{axpy, dot, norm2};
+use crate::linalg::{apply_reflectors4, axpy, dot, gemv, gemv_t, norm2};
 use crate::problem::{ActiveConstraint, QpProblem, Settings, Solution};
 use crate::status::{QpError, QpStatus};
 
@@ -52,10 +52,15 @@ pub struct ActiveSetSolver {
     // Factorizations. `jlen[j]` bounds the nonzero prefix of column j of J (J₀ is upper
     // triangular and each rotation only mixes two columns), rounded up to a multiple of 4.
     chol: Vec<f64>,
+    /// `L` row-major (rows of `L` contiguous), for the solves with many right-hand sides.
+    lt: Vec<f64>,
     j0: Vec<f64>,
     jm: Vec<f64>,
     jlen: Vec<usize>,
     rm: Vec<f64>,
+    /// `1 / R_kk` for the active columns (kept in step with `rm`: divisions are slow and
+    /// would sit on the dependency chain of every triangular solve).
+    rinv: Vec<f64>,
     j_eq: Vec<f64>,
     jlen_eq: Vec<usize>,
     r_eq: Vec<f64>,
@@ -63,10 +68,14 @@ pub struct ActiveSetSolver {
     eq_dep: Vec<bool>,
     j0_ok: bool,
     // Range-space equality phase: `dt` is Dᵀ with D = L⁻¹ Aᵀ (`n_eq × n`, column i = row i
-    // of D), `dt0` the same before the QR rotations, `rots` the rotations of that QR.
+    // of D), `dt0` the same before the QR, `hv`/`htau` the Householder reflectors of that QR
+    // (reflector r acts on rows r..n; its vector is `hv[r n..r n + n − r]`, τ = 0: identity).
     dt: Vec<f64>,
     dt0: Vec<f64>,
-    rots: Vec<(usize, Givens)>,
+    hv: Vec<f64>,
+    htau: Vec<f64>,
+    /// Scratch for four reflectors in WY form (`4 n`).
+    wv: Vec<f64>,
     lam: Vec<f64>,
     // Active set and multipliers (internal sign: H x + g = Σ u_k n_k, u_k ≥ 0 for inequalities).
     active: Vec<Entry>,
@@ -82,7 +91,8 @@ pub struct ActiveSetSolver {
     rv: Vec<f64>,
     v: Vec<f64>,
     w: Vec<f64>,
-    // Cache validity.
+    // Cache validity. `copies_ok`: the copies of H, A, C are complete and finite.
+    copies_ok: bool,
     h_ok: bool,
     eq_ok: bool,
     final_ok: bool,
@@ -116,10 +126,12 @@ impl ActiveSetSolver {
             lx: Vec::new(),
             ux: Vec::new(),
             chol: Vec::new(),
+            lt: Vec::new(),
             j0: Vec::new(),
             jm: Vec::new(),
             jlen: Vec::new(),
             rm: Vec::new(),
+            rinv: Vec::new(),
             j_eq: Vec::new(),
             jlen_eq: Vec::new(),
             r_eq: Vec::new(),
@@ -128,7 +140,9 @@ impl ActiveSetSolver {
             j0_ok: false,
             dt: Vec::new(),
             dt0: Vec::new(),
-            rots: Vec::new(),
+            hv: Vec::new(),
+            htau: Vec::new(),
+            wv: Vec::new(),
             lam: Vec::new(),
             active: Vec::new(),
             um: Vec::new(),
@@ -142,6 +156,7 @@ impl ActiveSetSolver {
             rv: Vec::new(),
             v: Vec::new(),
             w: Vec::new(),
+            copies_ok: false,
             h_ok: false,
             eq_ok: false,
             final_ok: false,
@@ -169,10 +184,12 @@ impl ActiveSetSolver {
         self.lx = zeros(n);
         self.ux = zeros(n);
         self.chol = zeros(n * n);
+        self.lt = zeros(n * n);
         self.j0 = zeros(ld * n);
         self.jm = zeros(ld * n);
         self.jlen = vec![0; n];
         self.rm = zeros(n * n);
+        self.rinv = zeros(n);
         self.j_eq = zeros(ld * n);
         self.jlen_eq = vec![0; n];
         self.r_eq = zeros(n * n);
@@ -180,7 +197,9 @@ impl ActiveSetSolver {
         self.eq_dep = vec![false; n_eq];
         self.dt = zeros(n_eq * n);
         self.dt0 = zeros(n_eq * n);
-        self.rots = Vec::with_capacity(n * n_eq);
+        self.hv = zeros(n * n_eq);
+        self.htau = zeros(n_eq);
+        self.wv = zeros(4 * n);
         self.lam = zeros(n_eq);
         self.active = Vec::with_capacity(n);
         self.um = zeros(n);
@@ -195,6 +214,7 @@ impl ActiveSetSolver {
         self.v = zeros(ld);
         self.w = zeros(ld);
         self.sol = Solution::new(n, n_eq, n_in);
+        self.copies_ok = false;
         self.reset();
     }
 
@@ -305,7 +325,7 @@ impl ActiveSetSolver {
             self.eq_ok = false;
             self.final_ok = false;
             self.chol.copy_from_slice(&self.h);
-            if let Err(column) = cholesky::factor_in_place::<F>(&mut self.chol, n) {
+            if let Err(column) = cholesky::factor_in_place::<F>(&mut self.chol, n, &mut self.lt) {
                 self.h_ok = false;
                 return Err(QpError::NotPositiveDefinite { column });
             }
@@ -330,6 +350,7 @@ impl ActiveSetSolver {
                 self.jlen.copy_from_slice(&self.jlen_eq);
                 self.rm.copy_from_slice(&self.r_eq);
                 self.active.truncate(self.q_eq);
+                self.refresh_rinv(0);
             } else {
                 self.equality_qr::<F>();
                 let try_fast = !self.prev.iter().any(|e| e.id >= self.ne);
@@ -407,66 +428,80 @@ impl ActiveSetSolver {
     }
 
     /// Equality phase, range-space form: `D = L⁻¹ Aᵀ` (row by row, stored as `Dᵀ`), then the
-    /// Givens QR `D = Q [R; 0]` that skips linearly dependent rows of A. Fills `R` (in `rm`),
-    /// the equality part of the active set, `eq_dep`, and records the rotations so that
+    /// Householder QR `D = Q [R; 0]` that skips linearly dependent rows of A. Fills `R` (in `rm`),
+    /// the equality part of the active set, `eq_dep`, and keeps the reflectors so that
     /// `J = L⁻ᵀ Q` can be built later only if an inequality needs it.
     #[inline(always)]
     fn equality_qr<const F: bool>(&mut self) {
         let (n, m) = (self.n, self.ne);
-        // Column k of D solves L d = (row k of A): column-oriented forward substitution in
-        // `z`, then scattered into Dᵀ.
-        for k in 0..m {
-            for i in 0..n {
-                self.z[i] = self.a[k + i * m];
-            }
-            for i in 0..n {
-                let di = self.z[i] / self.chol[i + i * n];
-                self.z[i] = di;
-                if di != 0.0 {
-                    axpy::<F>(
-                        -di,
-                        &self.chol[i * n + i + 1..(i + 1) * n],
-                        &mut self.z[i + 1..n],
-                    );
-                }
-                self.dt[k + i * m] = di;
+        // Row i of D (column i of Dᵀ, contiguous) is (column i of A − Σ_{j<i} L_ij D_j) / L_ii:
+        // forward substitution for all m right-hand sides at once, one register-blocked
+        // matrix–vector product per row.
+        for i in 0..n {
+            let (done, rest) = self.dt.split_at_mut(i * m);
+            let row = &mut rest[..m];
+            row.copy_from_slice(&self.a[i * m..(i + 1) * m]);
+            gemv::<F>(-1.0, done, m, &self.lt[i * n..i * n + i], row);
+            let inv = 1.0 / self.lt[i * n + i];
+            for v in row.iter_mut() {
+                *v *= inv;
             }
         }
         self.dt0.copy_from_slice(&self.dt);
-        self.rots.clear();
         self.active.clear();
         let tol2 = self.settings.dependence_tol * self.settings.dependence_tol;
         for k in 0..m {
             let q = self.active.len();
-            let (mut all, mut tail) = (0.0, 0.0);
-            for i in 0..n {
+            let (mut head, mut tail) = (0.0, 0.0);
+            for i in 0..q {
                 let v = self.dt[k + i * m];
-                all += v * v;
-                if i >= q {
-                    tail += v * v;
-                }
+                head += v * v;
             }
+            let v = &mut self.hv[q * n..(q + 1) * n - q];
+            for (i, vi) in v.iter_mut().enumerate() {
+                let x = self.dt[k + (q + i) * m];
+                *vi = x;
+                tail += x * x;
+            }
+            let all = head + tail;
             self.eq_dep[k] = all == 0.0 || tail <= tol2 * all;
             if self.eq_dep[k] {
                 continue;
             }
-            for jj in (q + 1..n).rev() {
-                if let Some((gr, _)) =
-                    Givens::zeroing(self.dt[k + (jj - 1) * m], self.dt[k + jj * m])
-                {
-                    let (left, right) = self.dt.split_at_mut(jj * m);
-                    gr.apply::<F>(&mut left[(jj - 1) * m..], &mut right[..m]);
-                    self.dt[k + jj * m] = 0.0;
-                    self.rots.push((jj - 1, gr));
+            // Householder reflector I − τ v vᵀ mapping D[q.., k] to β e₁ (one square root per
+            // column, no chain of dependent rotations), applied to the columns k+1..m of D.
+            let alpha = v[0];
+            let sigma = tail - alpha * alpha;
+            let beta;
+            if sigma <= 0.0 || v[1..].iter().all(|&x| x == 0.0) {
+                self.htau[q] = 0.0;
+                beta = alpha;
+            } else {
+                let norm = tail.sqrt();
+                beta = if alpha >= 0.0 { -norm } else { norm };
+                v[0] = alpha - beta;
+                let tau = 1.0 / (beta * (beta - alpha));
+                self.htau[q] = tau;
+                let rest = m - k - 1;
+                if rest > 0 {
+                    let w = &mut self.lam[..rest];
+                    w.fill(0.0);
+                    gemv::<F>(1.0, &self.dt[q * m + k + 1..], m, v, w);
+                    for (i, &vi) in v.iter().enumerate() {
+                        let col = &mut self.dt[(q + i) * m + k + 1..(q + i + 1) * m];
+                        axpy::<F>(-tau * vi, w, col);
+                    }
                 }
             }
-            for i in 0..=q {
+            for i in 0..q {
                 self.rm[i + q * n] = self.dt[k + i * m];
             }
+            self.rm[q + q * n] = beta;
             self.um[q] = 0.0;
             self.active.push(Entry { id: k, sign: 1.0 });
         }
         self.q_eq = self.active.len();
+        self.refresh_rinv(0);
     }
 
     /// Solve the equality-constrained problem from the range-space factorization
@@ -476,24 +511,14 @@ impl ActiveSetSolver {
     #[inline(always)]
     fn equality_fast_path<const F: bool>(&mut self) -> Result<bool, QpError> {
         let (n, m, ni) = (self.n, self.ne, self.ni);
-        // c = L⁻¹ g (in z), column-oriented forward substitution.
-        self.z[..n].copy_from_slice(&self.g[..n]);
+        // c = L⁻¹ g (in z): forward substitution with the rows of L.
         for i in 0..n {
-            let ci = self.z[i] / self.chol[i + i * n];
-            self.z[i] = ci;
-            if ci != 0.0 {
-                axpy::<F>(
-                    -ci,
-                    &self.chol[i * n + i + 1..(i + 1) * n],
-                    &mut self.z[i + 1..n],
-                );
-            }
+            let s = dot::<F>(&self.lt[i * n..i * n + i], &self.z[..i]);
+            self.z[i] = (self.g[i] - s) / self.lt[i * n + i];
         }
         // rhs = b + Dᵀ c on the independent rows, in factorization order (in w).
         self.lam.fill(0.0);
-        for i in 0..n {
-            axpy::<F>(self.z[i], &self.dt0[i * m..(i + 1) * m], &mut self.lam);
-        }
+        gemv::<F>(1.0, &self.dt0, m, &self.z[..n], &mut self.lam);
         let q = self.q_eq;
         for k in 0..q {
             let id = self.active[k].id;
@@ -502,17 +527,18 @@ impl ActiveSetSolver {
         // λ = R⁻¹ R⁻ᵀ rhs.
         for k in 0..q {
             let s = dot::<F>(&self.rm[k * n..k * n + k], &self.w[..k]);
-            self.w[k] = (self.w[k] - s) / self.rm[k + k * n];
+            self.w[k] = (self.w[k] - s) * self.rinv[k];
         }
-        back_substitute::<F>(&self.rm, n, q, &mut self.w);
+        back_substitute::<F>(&self.rm, &self.rinv, n, q, &mut self.w);
         self.lam.fill(0.0);
         for k in 0..q {
             self.lam[self.active[k].id] = self.w[k];
             self.um[k] = self.w[k];
         }
         // y = D λ − c (in v), then x = L⁻ᵀ y.
+        gemv_t::<F>(&self.dt0, m, &self.lam, &mut self.v[..n], |_| m);
         for i in 0..n {
-            self.v[i] = dot::<F>(&self.dt0[i * m..(i + 1) * m], &self.lam) - self.z[i];
+            self.v[i] -= self.z[i];
         }
         for i in (0..n).rev() {
             let s = dot::<F>(&self.chol[i * n + i + 1..(i + 1) * n], &self.x[i + 1..n]);
@@ -536,9 +562,7 @@ impl ActiveSetSolver {
             return Ok(false);
         }
         self.cx.fill(0.0);
-        for k in 0..n {
-            axpy::<F>(self.x[k], &self.c[k * ni..(k + 1) * ni], &mut self.cx);
-        }
+        gemv::<F>(1.0, &self.c, ni, &self.x[..n], &mut self.cx);
         if self
             .cx
             .iter()
@@ -555,22 +579,59 @@ impl ActiveSetSolver {
     }
 
     /// Build `J = L⁻ᵀ Q` for the equality factorization: `J₀ = L⁻ᵀ` (computed once per H)
-    /// and the recorded QR rotations replayed on its columns.
+    /// and the QR reflectors applied to its columns (four at a time, compact WY).
     #[inline(always)]
     fn build_j<const F: bool>(&mut self) {
         let (n, ld) = (self.n, self.ld);
         if !self.j0_ok {
-            cholesky::inverse_transpose::<F>(&self.chol, n, &mut self.j0, ld, &mut self.v);
-            self.v.fill(0.0);
+            cholesky::inverse_transpose::<F>(&self.lt, n, &mut self.j0, ld);
             self.j0_ok = true;
         }
         self.jm.copy_from_slice(&self.j0);
         for (j, len) in self.jlen.iter_mut().enumerate() {
             *len = ((j + 1).div_ceil(4) * 4).min(ld);
         }
-        for idx in 0..self.rots.len() {
-            let (k, gr) = self.rots[idx];
-            self.rotate_j::<F>(k, gr);
+        // J = J₀ H₀ H₁ …, four reflectors at a time in compact WY form
+        // (H_r0 … H_r0+3 = I − V T Vᵀ on the columns r0..n).
+        let q_eq = self.q_eq;
+        let mut r0 = 0;
+        while r0 < q_eq {
+            let b = (q_eq - r0).min(4);
+            r0 += b;
+            let r0 = r0 - b;
+            if self.htau[r0..r0 + b].iter().all(|&t| t == 0.0) {
+                continue;
+            }
+            let l = n - r0;
+            let v4 = &mut self.wv[..4 * l];
+            v4.fill(0.0);
+            for c in 0..b {
+                let v = &self.hv[(r0 + c) * n..(r0 + c + 1) * n - r0 - c];
+                for (i, &x) in v.iter().enumerate() {
+                    v4[(i + c) * 4 + c] = x;
+                }
+            }
+            let mut t = [[0.0f64; 4]; 4];
+            for c in 0..b {
+                let tau = self.htau[r0 + c];
+                t[c][c] = tau;
+                // T[..c, c] = −τ T[..c, ..c] (V[.., ..c]ᵀ v_c)
+                let mut z = [0.0f64; 4];
+                for row in v4.chunks_exact(4) {
+                    for (k, zk) in z.iter_mut().enumerate().take(c) {
+                        *zk += row[k] * row[c];
+                    }
+                }
+                for (i, ti) in t.iter_mut().enumerate().take(c) {
+                    let acc: f64 = (i..c).map(|k| ti[k] * z[k]).sum();
+                    ti[c] = -tau * acc;
+                }
+            }
+            apply_reflectors4::<F>(&mut self.jm, ld, r0, l, v4, &t);
+            // Columns r0.. now mix the full columns after them.
+            for len in &mut self.jlen[r0..] {
+                *len = ld;
+            }
         }
     }
 
@@ -606,11 +667,14 @@ impl ActiveSetSolver {
     /// `A` and `C` changed (bitwise) since the previous call.
     fn load(&mut self, p: &QpProblem) -> Result<(bool, bool, bool), QpError> {
         let n = self.n;
-        let h_changed = copy_checked("H", p.h.as_slice(), &mut self.h)?;
+        // The copies of H, A and C are known finite only after a complete successful load.
+        let trusted = self.copies_ok;
+        self.copies_ok = false;
+        let h_changed = load_matrix("H", p.h.as_slice(), &mut self.h, trusted)?;
         copy_checked("g", p.g.as_slice(), &mut self.g[..n])?;
         copy_checked("b", p.b.as_slice(), &mut self.b)?;
-        let a_changed = copy_checked("A", p.a.as_slice(), &mut self.a)?;
-        let c_changed = copy_checked("C", p.c.as_slice(), &mut self.c)?;
+        let a_changed = load_matrix("A", p.a.as_slice(), &mut self.a, trusted)?;
+        let c_changed = load_matrix("C", p.c.as_slice(), &mut self.c, trusted)?;
         let inf = self.settings.infinity;
         load_bounds(
             ("l", "u"),
@@ -628,6 +692,7 @@ impl ActiveSetSolver {
             &mut self.lx,
             &mut self.ux,
         )?;
+        self.copies_ok = true;
         Ok((h_changed, a_changed, c_changed))
     }
 
@@ -709,10 +774,8 @@ impl ActiveSetSolver {
             for k in 0..n {
                 self.row[k] = e.sign * m[i + k * rows];
             }
-            for j in 0..n {
-                let len = self.jlen[j];
-                self.d[j] = dot::<F>(&self.jm[j * ld..j * ld + len], &self.row[..len]);
-            }
+            let jlen = &self.jlen;
+            gemv_t::<F>(&self.jm, ld, &self.row, &mut self.d[..n], |j| jlen[j]);
         } else {
             let i = e.id - ne - ni;
             for j in 0..n {
@@ -761,8 +824,18 @@ impl ActiveSetSolver {
             }
         }
         self.rm[q * n..q * n + q + 1].copy_from_slice(&self.d[..=q]);
+        self.rinv[q] = 1.0 / self.d[q];
         self.um[q] = 0.0;
         self.active.push(e);
+    }
+
+    /// Recompute `rinv[k] = 1 / R_kk` for the active columns `from..`.
+    #[inline(always)]
+    fn refresh_rinv(&mut self, from: usize) {
+        let n = self.n;
+        for k in from..self.active.len() {
+            self.rinv[k] = 1.0 / self.rm[k + k * n];
+        }
     }
 
     /// Remove the active constraint at position `k` and restore `R` to triangular form.
@@ -789,6 +862,7 @@ impl ActiveSetSolver {
                 self.rotate_j::<F>(p, gr);
             }
         }
+        self.refresh_rinv(k);
     }
 
     /// Primal and dual solution of the equality-constrained problem on the active set, from
@@ -798,31 +872,22 @@ impl ActiveSetSolver {
     fn recompute<const F: bool>(&mut self) {
         let (n, ld) = (self.n, self.ld);
         let q = self.active.len();
-        for j in 0..n {
-            let len = self.jlen[j];
-            self.v[j] = dot::<F>(&self.jm[j * ld..j * ld + len], &self.g[..len]);
-        }
+        let jlen = &self.jlen;
+        gemv_t::<F>(&self.jm, ld, &self.g, &mut self.v[..n], |j| jlen[j]);
         for k in 0..q {
             let beta = self.rhs(self.active[k]);
             let s = dot::<F>(&self.rm[k * n..k * n + k], &self.w[..k]);
-            self.w[k] = (beta - s) / self.rm[k + k * n];
+            self.w[k] = (beta - s) * self.rinv[k];
         }
         for k in q..n {
             self.w[k] = -self.v[k];
         }
         self.x.fill(0.0);
-        for k in 0..n {
-            let len = self.jlen[k];
-            axpy::<F>(
-                self.w[k],
-                &self.jm[k * ld..k * ld + len],
-                &mut self.x[..len],
-            );
-        }
+        gemv::<F>(1.0, &self.jm, ld, &self.w[..n], &mut self.x[..ld]);
         for k in 0..q {
             self.rv[k] = self.w[k] + self.v[k];
         }
-        back_substitute::<F>(&self.rm, n, q, &mut self.rv);
+        back_substitute::<F>(&self.rm, &self.rinv, n, q, &mut self.rv);
         self.um[..q].copy_from_slice(&self.rv[..q]);
     }
 
@@ -837,9 +902,7 @@ impl ActiveSetSolver {
         loop {
             // Step 1: the most violated inactive constraint.
             self.cx.fill(0.0);
-            for k in 0..n {
-                axpy::<F>(self.x[k], &self.c[k * ni..(k + 1) * ni], &mut self.cx);
-            }
+            gemv::<F>(1.0, &self.c, ni, &self.x[..n], &mut self.cx);
             let mut best = Entry {
                 id: usize::MAX,
                 sign: 0.0,
@@ -896,8 +959,20 @@ impl ActiveSetSolver {
                 }
                 self.compute_d::<F>(p);
                 let q = self.active.len();
-                self.rv[..q].copy_from_slice(&self.d[..q]);
-                back_substitute::<F>(&self.rm, n, q, &mut self.rv);
+                // Dual step r = R⁻¹ d₁, only for the inequality rows q_eq..q: R is upper
+                // triangular, so they need only the trailing block of R; the equality
+                // multipliers are not read in this loop and are recomputed at its end.
+                let qe = self.q_eq;
+                self.rv[qe..q].copy_from_slice(&self.d[qe..q]);
+                if q > qe {
+                    back_substitute::<F>(
+                        &self.rm[qe + qe * n..],
+                        &self.rinv[qe..],
+                        n,
+                        q - qe,
+                        &mut self.rv[qe..],
+                    );
+                }
                 let mut t1 = f64::INFINITY;
                 let mut kdrop = usize::MAX;
                 for k in self.q_eq..q {
@@ -914,29 +989,26 @@ impl ActiveSetSolver {
                     f64::INFINITY
                 } else {
                     let tail = norm2::<F>(&self.d[q..n]);
-                    let sp = self.eval::<F>(p) - self.rhs(p);
+                    // `row` holds the normal of p (from compute_d) when p is a row of C.
+                    let px = if p.id < ne + ni {
+                        dot::<F>(&self.row[..n], &self.x[..n])
+                    } else {
+                        self.eval::<F>(p)
+                    };
+                    let sp = px - self.rhs(p);
                     (-sp / tail).max(0.0)
                 };
                 let t = t1.min(t2);
                 if t == f64::INFINITY {
                     return Err(QpError::Infeasible);
                 }
-                for k in 0..q {
+                for k in qe..q {
                     self.um[k] -= t * self.rv[k];
                 }
                 u_p += t;
                 if !dependent {
                     // z = J₂ d₂; x += t z.
-                    self.z.fill(0.0);
-                    for j in q..n {
-                        let len = self.jlen[j];
-                        axpy::<F>(
-                            self.d[j],
-                            &self.jm[j * ld..j * ld + len],
-                            &mut self.z[..len],
-                        );
-                    }
-                    axpy::<F>(t, &self.z, &mut self.x);
+                    gemv::<F>(t, &self.jm[q * ld..], ld, &self.d[q..n], &mut self.x[..ld]);
                     if t2 <= t1 {
                         self.add_to_factorization::<F>(p);
                         self.um[q] = u_p;
@@ -989,16 +1061,64 @@ impl ActiveSetSolver {
 }
 
 /// Solve `R y = rhs` in place for the leading `q × q` block of the column-major `R`
-/// (leading dimension `n`), column-oriented.
+/// (leading dimension `n`; `rinv` holds the inverted diagonal), by blocks of four rows from
+/// the bottom: a block first subtracts `R[block, solved] · y[solved]` (one matrix–vector
+/// product whose four rows are contiguous in every column of R), then solves its 4 × 4
+/// triangle. Each block reads each entry of R right of it once and writes its own four
+/// right-hand sides once.
 #[inline(always)]
-fn back_substitute<const F: bool>(r: &[f64], n: usize, q: usize, rhs: &mut [f64]) {
-    for k in (0..q).rev() {
-        let yk = rhs[k] / r[k + k * n];
-        rhs[k] = yk;
-        if yk != 0.0 {
-            axpy::<F>(-yk, &r[k * n..k * n + k], &mut rhs[..k]);
+fn back_substitute<const F: bool>(r: &[f64], rinv: &[f64], n: usize, q: usize, rhs: &mut [f64]) {
+    let mut k = q;
+    while k > 0 {
+        let k0 = k.saturating_sub(4);
+        let (head, tail) = rhs.split_at_mut(k);
+        if k < q {
+            gemv::<F>(-1.0, &r[k * n + k0..], n, &tail[..q - k], &mut head[k0..k]);
+        }
+        for kk in (k0..k).rev() {
+            let yk = head[kk] * rinv[kk];
+            head[kk] = yk;
+            for i in k0..kk {
+                head[i] -= yk * r[i + kk * n];
+            }
+        }
+        k = k0;
+    }
+}
+
+/// Load a matrix: when the previous copy `dst` is trusted (complete and finite) and `src` is
+/// bitwise equal to it, only compare (no store, no finiteness check: the common warm-start case
+/// reads the caller's matrix once); otherwise [`copy_checked`]. Returns whether any bit changed.
+fn load_matrix(
+    what: &'static str,
+    src: &[f64],
+    dst: &mut [f64],
+    trusted: bool,
+) -> Result<bool, QpError> {
+    if trusted && same_bits(src, dst) {
+        return Ok(false);
+    }
+    copy_checked(what, src, dst)
+}
+
+/// Whether `a` and `b` are bitwise equal (vectorized, with an early exit every 16 entries).
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    if a.len() != b.len() {
+        return false;
+    }
+    let ca = a.chunks_exact(16);
+    let cb = b.chunks_exact(16);
+    let (ra, rb) = (ca.remainder(), cb.remainder());
+    for (x, y) in ca.zip(cb) {
+        let mut d = 0u64;
+        for k in 0..16 {
+            d |= x[k].to_bits() ^ y[k].to_bits();
+        }
+        if d != 0 {
+            return false;
         }
     }
+    ra.iter().zip(rb).all(|(x, y)| x.to_bits() == y.to_bits())
 }
 
 /// Copy `src` into `dst` rejecting non-finite values; returns whether any bit changed.

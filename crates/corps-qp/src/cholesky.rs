@@ -1,28 +1,36 @@
 //! Dense Cholesky factorization `H = L Lᵀ` and the inverse transpose `J₀ = L⁻ᵀ`, in place on
 //! column-major buffers, without allocation.
 
-use crate::linalg::axpy;
+use crate::linalg::{gemv, gemv_upper};
 
 /// Factor the lower triangle of the column-major `n × n` matrix `a` in place into `L`
-/// (left-looking, column by column). The strict upper triangle is not read and is left as is.
+/// (left-looking, column by column: each column is one register-blocked matrix–vector
+/// product with the columns to its left). The strict upper triangle is not read and is left
+/// as is. Also writes `L` row-major into `lt` (`n × n`; row `j` of `L` is `lt[j n..j n + j]`
+/// plus the diagonal), which the triangular solves with many right-hand sides need.
 ///
 /// Returns `Err(j)` with the first column whose pivot is not larger than
 /// `n · ε · max(1, maxᵢ |Hᵢᵢ|)` (H not numerically positive definite).
 #[inline(always)]
-pub(crate) fn factor_in_place<const F: bool>(a: &mut [f64], n: usize) -> Result<(), usize> {
+pub(crate) fn factor_in_place<const F: bool>(
+    a: &mut [f64],
+    n: usize,
+    lt: &mut [f64],
+) -> Result<(), usize> {
     let mut max_diag: f64 = 1.0;
     for j in 0..n {
         max_diag = max_diag.max(a[j + j * n].abs());
     }
     let threshold = n as f64 * f64::EPSILON * max_diag;
     for j in 0..n {
+        let row = &mut lt[j * n..(j + 1) * n];
+        for (k, v) in row[..j].iter_mut().enumerate() {
+            *v = a[j + k * n];
+        }
         let (left, right) = a.split_at_mut(j * n);
         let col = &mut right[j..n];
-        for k in 0..j {
-            let ljk = left[k * n + j];
-            if ljk != 0.0 {
-                axpy::<F>(-ljk, &left[k * n + j..k * n + n], col);
-            }
+        if j > 0 {
+            gemv::<F>(-1.0, &left[j..], n, &row[..j], col);
         }
         let d = col[0];
         // Also catches NaN.
@@ -31,6 +39,7 @@ pub(crate) fn factor_in_place<const F: bool>(a: &mut [f64], n: usize) -> Result<
         }
         let s = d.sqrt();
         col[0] = s;
+        row[j] = s;
         let inv = 1.0 / s;
         for v in &mut col[1..] {
             *v *= inv;
@@ -40,33 +49,20 @@ pub(crate) fn factor_in_place<const F: bool>(a: &mut [f64], n: usize) -> Result<
 }
 
 /// Write `J₀ = L⁻ᵀ` (upper triangular, column-major with leading dimension `ld ≥ n`) into
-/// `j0`, from the factor `l` computed by [`factor_in_place`]. Rows `n..ld` are not written.
-/// `tmp` is a scratch vector of length `n`.
+/// `j0`, from the row-major factor `lt` written by [`factor_in_place`]. Entries below the
+/// diagonal and rows `n..ld` are not written (they must hold zeros).
 ///
-/// Column `k` of `L⁻¹` is found by forward substitution and stored as row `k` of `J₀`.
+/// Column `i` of `J₀` is row `i` of `L⁻¹`: `(eᵢ − Σ_{j<i} L_ij J₀[.., j]) / L_ii`, one
+/// register-blocked triangular matrix–vector product per column.
 #[inline(always)]
-pub(crate) fn inverse_transpose<const F: bool>(
-    l: &[f64],
-    n: usize,
-    j0: &mut [f64],
-    ld: usize,
-    tmp: &mut [f64],
-) {
-    for k in 0..n {
-        let t = &mut tmp[..n];
-        t.fill(0.0);
-        t[k] = 1.0;
-        for i in k..n {
-            let xi = t[i] / l[i + i * n];
-            t[i] = xi;
-            if xi != 0.0 {
-                axpy::<F>(-xi, &l[i * n + i + 1..i * n + n], &mut t[i + 1..]);
-            }
-        }
-        // Row k of J₀ = column k of L⁻¹ (zero above the diagonal of L⁻¹).
-        for (c, &v) in t.iter().enumerate() {
-            j0[k + c * ld] = v;
-        }
+pub(crate) fn inverse_transpose<const F: bool>(lt: &[f64], n: usize, j0: &mut [f64], ld: usize) {
+    for i in 0..n {
+        let dinv = 1.0 / lt[i * n + i];
+        let (left, right) = j0.split_at_mut(i * ld);
+        let col = &mut right[..i + 1];
+        col[..i].fill(0.0);
+        gemv_upper::<F>(-dinv, left, ld, &lt[i * n..i * n + i], &mut col[..i]);
+        col[i] = dinv;
     }
 }
 
@@ -80,7 +76,8 @@ mod tests {
         // H = [4 2 0; 2 5 1; 0 1 3], column-major.
         let h = [4.0, 2.0, 0.0, 2.0, 5.0, 1.0, 0.0, 1.0, 3.0];
         let mut l = h;
-        factor_in_place::<false>(&mut l, n).unwrap();
+        let mut lt = [0.0; 9];
+        factor_in_place::<false>(&mut l, n, &mut lt).unwrap();
         // Check L Lᵀ = H on the lower triangle.
         for i in 0..n {
             for j in 0..=i {
@@ -89,8 +86,7 @@ mod tests {
             }
         }
         let mut j0 = [0.0; 9];
-        let mut tmp = [0.0; 3];
-        inverse_transpose::<false>(&l, n, &mut j0, n, &mut tmp);
+        inverse_transpose::<false>(&lt, n, &mut j0, n);
         // J₀ᵀ H J₀ = I.
         for a in 0..n {
             for b in 0..n {
@@ -109,8 +105,9 @@ mod tests {
     #[test]
     fn indefinite_matrix_is_rejected() {
         let mut a = [1.0, 2.0, 2.0, 1.0];
-        assert_eq!(factor_in_place::<false>(&mut a, 2), Err(1));
+        let mut lt = [0.0; 4];
+        assert_eq!(factor_in_place::<false>(&mut a, 2, &mut lt), Err(1));
         let mut z = [0.0; 4];
-        assert_eq!(factor_in_place::<false>(&mut z, 2), Err(0));
+        assert_eq!(factor_in_place::<false>(&mut z, 2, &mut lt), Err(0));
     }
 }

@@ -29,19 +29,24 @@
 //!
 //! Details that matter for speed, all measured on the TSID TALOS problems and TSID's random
 //! 60/36/40 problems:
-//! - **Equalities first, in range-space form.** `D = L⁻¹ Aᵀ` and its Givens QR give `R` and
-//!   the equality-constrained minimizer by two triangular solves. If that point already
-//!   satisfies every inequality (the common case in TSID: no inequality is active on its
-//!   TALOS problems), the solve ends there, without ever forming `J`. Otherwise `J = L⁻ᵀ` is
-//!   formed and the recorded rotations are replayed on it. Linearly dependent equality rows are
-//!   skipped (and checked for consistency: inconsistent ones make the problem infeasible).
+//! - **Equalities first, in range-space form.** `D = L⁻¹ Aᵀ` (all right-hand sides at once)
+//!   and its Householder QR give `R` and the equality-constrained minimizer by two triangular
+//!   solves. If that point already satisfies every inequality (the common case in TSID: no
+//!   inequality is active on its TALOS problems), the solve ends there, without ever forming
+//!   `J`. Otherwise `J = L⁻ᵀ` is formed and the QR's reflectors are applied to it, four at a
+//!   time in compact WY form. Linearly dependent equality rows are skipped (and checked for
+//!   consistency: inconsistent ones make the problem infeasible).
 //! - **Two-sided rows** `l ≤ C x ≤ u` are one constraint whose violated side is added;
 //!   **variable bounds** are cheap rows (their `Jᵀ n` is a row of `J`). Bounds with
 //!   `|value| ≥ Settings::infinity` (1e10, TSID's sentinel) are absent.
-//! - **Structure and kernels.** `J` starts upper triangular and every rotation mixes two
-//!   adjacent columns, so each column's nonzero prefix is tracked and only it is touched.
-//!   Dot/axpy/rotation kernels use AVX2 + FMA when the CPU has them (checked at run time),
-//!   portable code otherwise.
+//! - **Structure and kernels.** `J` starts upper triangular and every Givens rotation mixes
+//!   two adjacent columns, so each column's nonzero prefix is tracked and only it is touched.
+//!   The O(n²) work per step is matrix–vector products (`Jᵀ n`, `J w`, `C x`, the triangular
+//!   solves by blocks of four rows) in register-blocked kernels with several independent
+//!   accumulators, and the O(n³) work at setup (Cholesky, `L⁻ᵀ`, `L⁻¹ Aᵀ`, `J`) is organized
+//!   as such products too. The kernels use AVX2 + FMA when the CPU has them (checked at run
+//!   time), portable code that auto-vectorizes otherwise. The dual step of an inequality
+//!   iteration only solves the trailing (inequality) block of `R`.
 //!
 //! ## Warm start
 //!
