@@ -14,7 +14,7 @@
 
 use crate::cholesky;
 use crate::givens::Givens;
-use crate::linalg::{apply_reflectors4, axpy, dot, gemv, gemv_t, norm2};
+use crate::linalg::{apply_reflectors4, dot, gemv, gemv_t, ger_sub, norm2};
 use crate::problem::{ActiveConstraint, QpProblem, Settings, Solution};
 use crate::status::{QpError, QpStatus};
 
@@ -487,10 +487,10 @@ impl ActiveSetSolver {
                     let w = &mut self.lam[..rest];
                     w.fill(0.0);
                     gemv::<F>(1.0, &self.dt[q * m + k + 1..], m, v, w);
-                    for (i, &vi) in v.iter().enumerate() {
-                        let col = &mut self.dt[(q + i) * m + k + 1..(q + i + 1) * m];
-                        axpy::<F>(-tau * vi, w, col);
+                    for wi in w.iter_mut() {
+                        *wi *= tau;
                     }
+                    ger_sub::<F>(&mut self.dt[q * m + k + 1..], m, w, v);
                 }
             }
             for i in 0..q {

@@ -333,7 +333,30 @@ fn wy_rows<const F: bool, const W: usize>(
     }
 }
 
-/// `y += alpha * x` over the common prefix.
+/// `A −= x yᵀ` on the `x.len() × y.len()` block of the column-major `A` (leading dimension
+/// `lda`): one pass over the columns with `x` kept in registers.
+#[inline(always)]
+pub(crate) fn ger_sub<const F: bool>(a: &mut [f64], lda: usize, x: &[f64], y: &[f64]) {
+    let (m, nc) = (x.len(), y.len());
+    if m == 0 || nc == 0 {
+        return;
+    }
+    assert!(a.len() >= (nc - 1) * lda + m);
+    #[cfg(target_arch = "x86_64")]
+    if F {
+        // SAFETY: as in `axpy`; bounds checked by the assert above.
+        return unsafe { avx::ger_sub(a, lda, x, y) };
+    }
+    for (k, &yk) in y.iter().enumerate() {
+        for (ai, &xi) in a[k * lda..k * lda + m].iter_mut().zip(x) {
+            *ai -= xi * yk;
+        }
+    }
+}
+
+/// `y += alpha * x` over the common prefix (kept for the kernel tests; the solver now uses
+/// the blocked kernels above).
+#[cfg_attr(not(test), allow(dead_code))]
 #[inline(always)]
 pub(crate) fn axpy<const F: bool>(alpha: f64, x: &[f64], y: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
@@ -474,8 +497,78 @@ mod avx {
                 _mm256_storeu_pd(q, _mm256_fmadd_pd(va, s, _mm256_loadu_pd(q)));
                 r += 4;
             }
+            if r < m {
+                // The last 1–3 rows as one masked 4-row block (masked-out lanes are neither
+                // read nor written).
+                let mask = tail_mask(m - r);
+                let mut k = if upper { r.min(nc) } else { 0 };
+                let z = _mm256_setzero_pd();
+                let (mut a0, mut a1) = (z, z);
+                while k + 2 <= nc {
+                    let p0 = pa.add(k * lda + r);
+                    a0 = _mm256_fmadd_pd(
+                        _mm256_maskload_pd(p0, mask),
+                        _mm256_broadcast_sd(&*px.add(k)),
+                        a0,
+                    );
+                    a1 = _mm256_fmadd_pd(
+                        _mm256_maskload_pd(p0.add(lda), mask),
+                        _mm256_broadcast_sd(&*px.add(k + 1)),
+                        a1,
+                    );
+                    k += 2;
+                }
+                if k < nc {
+                    let p0 = pa.add(k * lda + r);
+                    a0 = _mm256_fmadd_pd(
+                        _mm256_maskload_pd(p0, mask),
+                        _mm256_broadcast_sd(&*px.add(k)),
+                        a0,
+                    );
+                }
+                let q = py.add(r);
+                let s = _mm256_add_pd(a0, a1);
+                _mm256_maskstore_pd(q, mask, _mm256_fmadd_pd(va, s, _mm256_maskload_pd(q, mask)));
+                r = m;
+            }
         }
         r
+    }
+
+    /// Lane mask selecting the first `len` (1–3) of four lanes.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    fn tail_mask(len: usize) -> __m256i {
+        let l = len as i64;
+        _mm256_set_epi64x(
+            if l > 3 { -1 } else { 0 },
+            if l > 2 { -1 } else { 0 },
+            if l > 1 { -1 } else { 0 },
+            if l > 0 { -1 } else { 0 },
+        )
+    }
+
+    /// `A −= x yᵀ` for the `x.len() × y.len()` block of the column-major `A` (leading
+    /// dimension `lda`); the caller has checked `a.len() ≥ (y.len() − 1) lda + x.len()`.
+    #[inline]
+    #[target_feature(enable = "avx2,fma")]
+    pub(super) unsafe fn ger_sub(a: &mut [f64], lda: usize, x: &[f64], y: &[f64]) {
+        let m = x.len();
+        let pa = a.as_mut_ptr();
+        let mut r = 0;
+        // SAFETY: every access is at column k < nc, row < m: below (nc − 1) lda + m.
+        unsafe {
+            while r < m {
+                let mask = tail_mask((m - r).min(4));
+                let xv = _mm256_maskload_pd(x.as_ptr().add(r), mask);
+                for (k, &yk) in y.iter().enumerate() {
+                    let p = pa.add(k * lda + r);
+                    let v = _mm256_fnmadd_pd(xv, _mm256_set1_pd(yk), _mm256_maskload_pd(p, mask));
+                    _mm256_maskstore_pd(p, mask, v);
+                }
+                r += 4;
+            }
+        }
     }
 
     /// The four dot products `cₖ · x` (all slices of the same length).
@@ -530,6 +623,7 @@ mod avx {
         out
     }
 
+    #[cfg_attr(not(test), allow(dead_code))]
     #[inline]
     #[target_feature(enable = "avx2,fma")]
     pub(super) unsafe fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
