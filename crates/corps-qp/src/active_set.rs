@@ -511,10 +511,24 @@ impl ActiveSetSolver {
     #[inline(always)]
     fn equality_fast_path<const F: bool>(&mut self) -> Result<bool, QpError> {
         let (n, m, ni) = (self.n, self.ne, self.ni);
-        // c = L⁻¹ g (in z): forward substitution with the rows of L.
-        for i in 0..n {
-            let s = dot::<F>(&self.lt[i * n..i * n + i], &self.z[..i]);
-            self.z[i] = (self.g[i] - s) / self.lt[i * n + i];
+        // c = L⁻¹ g (in z): forward substitution with the rows of L, four rows at a time
+        // (their products with the solved part are four independent dot products).
+        let mut i0 = 0;
+        while i0 < n {
+            let b = (n - i0).min(4);
+            let mut s = [0.0f64; 4];
+            let (done, rest) = self.z.split_at_mut(i0);
+            gemv_t::<F>(&self.lt[i0 * n..], n, done, &mut s[..b], |_| i0);
+            for t in 0..b {
+                let i = i0 + t;
+                let row = &self.lt[i * n..i * n + i + 1];
+                let mut acc = self.g[i] - s[t];
+                for (j, &l) in row[i0..i].iter().enumerate() {
+                    acc -= l * rest[j];
+                }
+                rest[t] = acc / row[i];
+            }
+            i0 += b;
         }
         // rhs = b + Dᵀ c on the independent rows, in factorization order (in w).
         self.lam.fill(0.0);
@@ -540,9 +554,30 @@ impl ActiveSetSolver {
         for i in 0..n {
             self.v[i] -= self.z[i];
         }
-        for i in (0..n).rev() {
-            let s = dot::<F>(&self.chol[i * n + i + 1..(i + 1) * n], &self.x[i + 1..n]);
-            self.x[i] = (self.v[i] - s) / self.chol[i + i * n];
+        // x = L⁻ᵀ y by blocks of four rows from the bottom (columns of L are contiguous).
+        let mut i1 = n;
+        while i1 > 0 {
+            let i0 = i1.saturating_sub(4);
+            let b = i1 - i0;
+            let mut s = [0.0f64; 4];
+            let (head, solved) = self.x.split_at_mut(i1);
+            gemv_t::<F>(
+                &self.chol[i0 * n + i1..],
+                n,
+                &solved[..n - i1],
+                &mut s[..b],
+                |_| n - i1,
+            );
+            for t in (0..b).rev() {
+                let i = i0 + t;
+                let col = &self.chol[i * n..i * n + i1];
+                let mut acc = self.v[i] - s[t];
+                for (j, &xj) in head[i + 1..i1].iter().enumerate() {
+                    acc -= col[i + 1 + j] * xj;
+                }
+                head[i] = acc / col[i];
+            }
+            i1 = i0;
         }
         for k in 0..m {
             if self.eq_dep[k] {
