@@ -1121,39 +1121,54 @@ fn back_substitute<const F: bool>(r: &[f64], rinv: &[f64], n: usize, q: usize, r
     }
 }
 
-/// Load a matrix: when the previous copy `dst` is trusted (complete and finite) and `src` is
-/// bitwise equal to it, only compare (no store, no finiteness check: the common warm-start case
-/// reads the caller's matrix once); otherwise [`copy_checked`]. Returns whether any bit changed.
+/// Load a matrix: when the previous copy `dst` is trusted (complete and finite), compare
+/// first and copy (with the finiteness check) only from the first 16-entry block that differs;
+/// a matrix that did not change is read once and not written (the common warm-start case), a
+/// changed one is still read only once. Untrusted: [`copy_checked`]. Returns whether any bit
+/// changed.
 fn load_matrix(
     what: &'static str,
     src: &[f64],
     dst: &mut [f64],
     trusted: bool,
 ) -> Result<bool, QpError> {
-    if trusted && same_bits(src, dst) {
+    if !trusted || src.len() != dst.len() {
+        return copy_checked(what, src, dst);
+    }
+    let k = same_prefix(src, dst);
+    if k == src.len() {
         return Ok(false);
     }
-    copy_checked(what, src, dst)
+    match copy_checked(what, &src[k..], &mut dst[k..]) {
+        Err(QpError::NonFinite { what, index }) => Err(QpError::NonFinite {
+            what,
+            index: index + k,
+        }),
+        Err(e) => Err(e),
+        Ok(_) => Ok(true),
+    }
 }
 
-/// Whether `a` and `b` are bitwise equal (vectorized, with an early exit every 16 entries).
-fn same_bits(a: &[f64], b: &[f64]) -> bool {
-    if a.len() != b.len() {
-        return false;
-    }
+/// The start of the first 16-entry block in which `a` and `b` differ bitwise (`a.len()` if
+/// none); vectorized compare. `a` and `b` have the same length.
+fn same_prefix(a: &[f64], b: &[f64]) -> usize {
     let ca = a.chunks_exact(16);
     let cb = b.chunks_exact(16);
     let (ra, rb) = (ca.remainder(), cb.remainder());
-    for (x, y) in ca.zip(cb) {
+    for (c, (x, y)) in ca.zip(cb).enumerate() {
         let mut d = 0u64;
         for k in 0..16 {
             d |= x[k].to_bits() ^ y[k].to_bits();
         }
         if d != 0 {
-            return false;
+            return c * 16;
         }
     }
-    ra.iter().zip(rb).all(|(x, y)| x.to_bits() == y.to_bits())
+    if ra.iter().zip(rb).all(|(x, y)| x.to_bits() == y.to_bits()) {
+        a.len()
+    } else {
+        a.len() - ra.len()
+    }
 }
 
 /// Copy `src` into `dst` rejecting non-finite values; returns whether any bit changed.
