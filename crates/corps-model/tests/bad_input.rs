@@ -161,7 +161,14 @@ fn mutate(base: &str, cut: usize, len: usize, insert: &str) -> String {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(400))]
+    #![proptest_config(ProptestConfig {
+        cases: 400,
+        // A fixed seed: CI runs the same cases every time (set another to explore);
+        // no regression files are written during CI.
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0xc0495),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
     #[test]
     fn mutated_urdfs_never_panic(
         cut in 0usize..100_000,

@@ -62,7 +62,14 @@ fn run(seq: &[QpProblem], warm: bool) -> (Vec<nalgebra::DVector<f64>>, usize) {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig {
+        cases: 24,
+        // A fixed seed: CI runs the same cases every time (set another to explore);
+        // no regression files are written during CI.
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0xc0498),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn warm_solves_equal_cold_solves(seed in any::<u64>(), n in 3usize..30, matrices in any::<bool>(), bounds in any::<bool>()) {
