@@ -8,12 +8,14 @@
 //! ```text
 //! minimize over (x, v)   ½ ‖A_k x − b_k‖²_W + ½ ‖v‖²_W + ½ ε ‖x‖²
 //! subject to             l_k ≤ C_k x − v ≤ u_k                       (v: inequality slacks)
-//!                        A_j x = A_j x*_j  for every level j < k       (achieved residual kept)
-//!                        C_j x within [l_j, u_j] widened by v*_j, j < k (achieved violation kept)
+//!                        A_j x = A_j x*_{k−1}  for every level j < k   (achieved residual kept)
+//!                        C_j x within [l_j, u_j] widened to C_j x*_{k−1} (achieved violation kept)
 //!                        lx ≤ x ≤ ux                                    (hard bounds)
 //! ```
 //!
-//! where `x*_j`, `v*_j` are level j's solution. An upper level's task error is therefore held
+//! where `x*_{k−1}` is the previous level's solution, which achieves every upper level's
+//! optimum (computing all held targets from one point keeps dependent held rows consistent).
+//! An upper level's task error is therefore held
 //! exactly (to rounding) by every level below it: a lower level can only use the freedom the
 //! upper ones leave. ε (`regularization`, default 1e-9) keeps each level's Hessian positive
 //! definite; at the last level it selects the smallest-norm `x` among the remaining freedom.
@@ -253,6 +255,24 @@ impl HierarchicalQp {
         let n = self.n;
         let eps = self.regularization;
         for k in 0..self.levels.len() {
+            // Hold every upper level at what the previous level's solution x_{k−1} achieves: it
+            // satisfies them all (to rounding), and computing every held target from the same
+            // point keeps dependent held rows exactly consistent. Targets recorded from each
+            // level's own solution disagree at rounding level on dependent rows (e.g. CoM and
+            // feet tasks of an IK), which the solver rightly reports as infeasible.
+            if k > 0 {
+                for j in 0..k {
+                    let up = &self.levels[j];
+                    for r in 0..up.n_eq() {
+                        self.eq_target[j][r] = (0..n).map(|c| up.a[(r, c)] * self.x[c]).sum();
+                    }
+                    for r in 0..up.n_in() {
+                        let cx: f64 = (0..n).map(|c| up.c[(r, c)] * self.x[c]).sum();
+                        self.in_lo[j][r] = up.l[r].min(cx);
+                        self.in_hi[j][r] = up.u[r].max(cx);
+                    }
+                }
+            }
             let lv = &self.levels[k];
             let ri = lv.n_in();
             let p = &mut self.problems[k];
@@ -317,17 +337,7 @@ impl HierarchicalQp {
             let sol = self.solvers[k]
                 .solve(p)
                 .map_err(|source| HqpError::Level { level: k, source })?;
-            // Record what this level achieved.
-            let x = sol.x.rows(0, n);
-            for r in 0..lv.n_eq() {
-                self.eq_target[k][r] = (0..n).map(|c| lv.a[(r, c)] * x[c]).sum();
-            }
-            for r in 0..ri {
-                let v = sol.x[n + r];
-                self.in_lo[k][r] = lv.l[r] + v.min(0.0);
-                self.in_hi[k][r] = lv.u[r] + v.max(0.0);
-            }
-            self.x.copy_from(&x);
+            self.x.copy_from(&sol.x.rows(0, n));
         }
         Ok(&self.x)
     }
