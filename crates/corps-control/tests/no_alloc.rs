@@ -6,32 +6,12 @@ mod tsid;
 use corps_control::RobotState;
 use corps_model::{build_model_from_urdf_file, RootJoint};
 use nalgebra::DVector;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use tsid::*;
 
-struct Counting;
-
-thread_local! {
-    static ALLOCS: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        System.alloc(l)
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        System.dealloc(p, l)
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        System.realloc(p, l, n)
-    }
-}
+use corps_testkit::{allocations, CountingAllocator};
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn a_control_tick_does_not_allocate() {
@@ -60,11 +40,11 @@ fn a_control_tick_does_not_allocate() {
             &mut tau
         )
         .is_none());
-    let before = ALLOCS.with(|c| c.get());
+    let before = allocations();
     for (q, v) in &states {
         let r = id.tick(&model, &mut state, 0.001, q, v, 5.0, &mut tau);
         assert!(r.is_none(), "{r:?}");
     }
-    let n = ALLOCS.with(|c| c.get()) - before;
+    let n = allocations() - before;
     assert_eq!(n, 0, "{n} heap allocations in {} ticks", states.len());
 }

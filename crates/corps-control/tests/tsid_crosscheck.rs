@@ -9,6 +9,7 @@
 mod tsid;
 use corps_control::RobotState;
 use corps_model::{build_model_from_urdf_file, RootJoint};
+use corps_testkit::assert_close;
 use serde_json::Value;
 use tsid::*;
 

@@ -4,31 +4,10 @@
 mod common;
 use common::*;
 use corps_sim::*;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
-struct Counting;
-
-thread_local! {
-    static ALLOCS: Cell<usize> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        System.alloc(l)
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        System.dealloc(p, l)
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-        System.realloc(p, l, n)
-    }
-}
+use corps_testkit::{allocations, CountingAllocator};
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn stepping_and_reading_sensors_do_not_allocate() {
@@ -70,12 +49,12 @@ fn stepping_and_reading_sensors_do_not_allocate() {
     let cmd = hold(&model, &q);
     sim.step(&cmd).unwrap(); // the first step stores the command
     sensors.update(&sim);
-    let before = ALLOCS.with(|c| c.get());
+    let before = allocations();
     for _ in 0..200 {
         sim.step(&cmd).unwrap();
         sensors.update(&sim);
     }
-    let n = ALLOCS.with(|c| c.get()) - before;
+    let n = allocations() - before;
     assert_eq!(n, 0, "{n} heap allocations in 200 steps");
     assert!(
         sensors.truth().force_torque[0][2] < -100.0 || sensors.truth().force_torque[0][2] > 100.0,

@@ -36,19 +36,6 @@ pub fn mat(v: &Value) -> DMatrix<f64> {
     DMatrix::from_fn(rows.len(), rows[0].len(), |r, c| rows[r][c])
 }
 
-pub fn assert_close(what: &str, a: &[f64], b: &[f64], tol: f64) {
-    assert_eq!(a.len(), b.len(), "{what}: sizes");
-    let scale = b.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-    let err = a
-        .iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-    assert!(
-        err <= tol * scale,
-        "{what}: max error {err:.3e} > {tol:.0e} × {scale:.3e}"
-    );
-}
-
 /// Configures the formulation as TSID was at this tick.
 pub fn configure(model: &Model, tick: &Value) -> InverseDynamics {
     let mut id = InverseDynamics::new(model);

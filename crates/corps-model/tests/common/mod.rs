@@ -47,16 +47,5 @@ pub fn random_state(
     (q, v, a, t)
 }
 
-/// max |a − b| ≤ tol · max(1, max |b|).
-pub fn assert_close(what: &str, a: &[f64], b: &[f64], tol: f64) {
-    assert_eq!(a.len(), b.len(), "{what}: sizes differ");
-    let scale = b.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-    let err = a
-        .iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-    assert!(
-        err <= tol * scale,
-        "{what}: max error {err:.3e} > {tol:.1e} × scale {scale:.3e}"
-    );
-}
+#[allow(unused_imports)] // not every test binary that includes this module compares vectors
+pub use corps_testkit::assert_close;
