@@ -321,9 +321,7 @@ impl Simulator {
     }
 
     fn rk4(&mut self, cmd: &Command, h: f64) {
-        let mut w = std::mem::replace(&mut self.work, Rk4Work::empty());
-        w.qs.copy_from(&self.q);
-        w.vs.copy_from(&self.v);
+        let mut w = self.begin_step();
         let fractions = [0.5, 0.5, 1.0];
         for stage in 0..4 {
             w.kv[stage].copy_from(&w.vs);
@@ -356,25 +354,29 @@ impl Simulator {
             w.dq[k] = h / 6.0 * (w.kv[0][k] + 2.0 * w.kv[1][k] + 2.0 * w.kv[2][k] + w.kv[3][k]);
             self.v[k] += h / 6.0 * (w.ka[0][k] + 2.0 * w.ka[1][k] + 2.0 * w.ka[2][k] + w.ka[3][k]);
         }
-        let _ = integrate_to(
-            &self.model,
-            self.q.as_slice(),
-            w.dq.as_slice(),
-            w.qs.as_mut_slice(),
-        );
-        self.q.copy_from(&w.qs);
-        self.work = w;
+        self.end_step(w);
     }
 
     fn euler(&mut self, cmd: &Command, h: f64) {
-        let mut w = std::mem::replace(&mut self.work, Rk4Work::empty());
-        w.qs.copy_from(&self.q);
-        w.vs.copy_from(&self.v);
+        let mut w = self.begin_step();
         self.evaluate(cmd, w.qs.as_slice(), w.vs.as_slice(), self.t, false);
         for k in 0..w.dq.len() {
             self.v[k] += h * self.acceleration[k];
             w.dq[k] = h * self.v[k];
         }
+        self.end_step(w);
+    }
+
+    /// The work buffers, with `qs`, `vs` holding the current state (no allocation).
+    fn begin_step(&mut self) -> Rk4Work {
+        let mut w = std::mem::replace(&mut self.work, Rk4Work::empty());
+        w.qs.copy_from(&self.q);
+        w.vs.copy_from(&self.v);
+        w
+    }
+
+    /// `q ← q ⊕ w.dq` (checked sizes: cannot fail), and the work buffers go back.
+    fn end_step(&mut self, mut w: Rk4Work) {
         let _ = integrate_to(
             &self.model,
             self.q.as_slice(),
@@ -396,9 +398,7 @@ impl Simulator {
                 reason: "non-finite or exploding state".into(),
             });
         }
-        let mut w = std::mem::replace(&mut self.work, Rk4Work::empty());
-        w.qs.copy_from(&self.q);
-        w.vs.copy_from(&self.v);
+        let w = self.begin_step();
         self.first_stage_valid =
             !self.evaluate(cmd, w.qs.as_slice(), w.vs.as_slice(), self.t, true);
         self.work = w;

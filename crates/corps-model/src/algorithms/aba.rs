@@ -7,6 +7,7 @@
 //! p^a = p^A + I^a c + U D⁻¹ u; forward q̈ = D⁻¹ (u − Uᵀ a_λ'), a = a_λ + c + S q̈.
 
 use super::jacobians::{joint_world_twist, write_joint_columns};
+use super::kinematics::place_joint;
 use crate::data::{col_motion, Data};
 use crate::error::Result;
 use crate::joint::JointKind;
@@ -64,12 +65,7 @@ pub(crate) fn aba_pass<F>(
 {
     // Forward: placements, world twists, bias accelerations and forces, body inertias.
     for (i, j) in model.joints.iter().enumerate() {
-        let li = j.kind.placed_transform(&j.placement, &q[j.idx_q..]);
-        data.o_m_i[i] = match j.parent {
-            Some(p) => data.o_m_i[p] * li,
-            None => li,
-        };
-        data.li_m_i[i] = li;
+        place_joint(j, i, data, q);
         write_joint_columns(model, data, i);
         let vj = joint_world_twist(data, j, v);
         let ov = match j.parent {

@@ -32,13 +32,19 @@ pub fn forward_kinematics(
 #[inline]
 pub(crate) fn placements(model: &Model, data: &mut Data, q: &[f64]) {
     for (i, j) in model.joints.iter().enumerate() {
-        let li = j.kind.placed_transform(&j.placement, &q[j.idx_q..]);
-        data.o_m_i[i] = match j.parent {
-            Some(p) => data.o_m_i[p] * li,
-            None => li,
-        };
-        data.li_m_i[i] = li;
+        place_joint(j, i, data, q);
     }
+}
+
+/// `li_m_i` and `o_m_i` of joint `i` (its parent already placed).
+#[inline]
+pub(crate) fn place_joint(j: &crate::joint::Joint, i: usize, data: &mut Data, q: &[f64]) {
+    let li = j.kind.placed_transform(&j.placement, &q[j.idx_q..]);
+    data.o_m_i[i] = match j.parent {
+        Some(p) => data.o_m_i[p] * li,
+        None => li,
+    };
+    data.li_m_i[i] = li;
 }
 
 /// Placements, local velocities and accelerations; `None` stands for a zero vector.
