@@ -166,11 +166,13 @@ impl Simulator {
         }
         let (points, bounds) = sample_contact_points(&model, settings.contact.point_spacing);
         let nv = model.nv;
-        let mut m = (*model).clone();
-        m.gravity = Vector3::from(settings.gravity);
-        let model = if m.gravity == model.gravity {
+        // The run's gravity lives in its model; copy the model only when it differs.
+        let gravity = Vector3::from(settings.gravity);
+        let model = if gravity == model.gravity {
             model
         } else {
+            let mut m = (*model).clone();
+            m.gravity = gravity;
             Arc::new(m)
         };
         let n = model.njoints();

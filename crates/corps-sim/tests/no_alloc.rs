@@ -11,21 +11,8 @@ static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn stepping_and_reading_sensors_do_not_allocate() {
-    let model = talos();
-    let mut q = model
-        .reference_configuration("half_sitting")
-        .unwrap()
-        .clone();
-    place_on_ground(&model, q.as_mut_slice(), 0.0).unwrap();
-    let gains = ServoGains::high_gain(&model, q.as_slice(), 0.02, 1.0).unwrap();
-    let mut sim = Simulator::new(
-        model.clone(),
-        Terrain::preset(TerrainPreset::Flat, 0.8),
-        SimSettings::default(),
-        q.as_slice(),
-        gains,
-    )
-    .unwrap();
+    let (mut sim, q) = standing_talos();
+    let model = sim.model().clone();
     sim.add_push(Push {
         frame: "base_link".into(),
         start: 0.05,

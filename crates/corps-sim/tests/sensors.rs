@@ -5,21 +5,8 @@ use common::*;
 use corps_sim::*;
 
 fn standing(noise: SensorNoise, seed: u64, seconds: f64) -> (Simulator, Sensors) {
-    let model = talos();
-    let mut q = model
-        .reference_configuration("half_sitting")
-        .unwrap()
-        .clone();
-    place_on_ground(&model, q.as_mut_slice(), 0.0).unwrap();
-    let gains = ServoGains::high_gain(&model, q.as_slice(), 0.02, 1.0).unwrap();
-    let mut sim = Simulator::new(
-        model.clone(),
-        Terrain::preset(TerrainPreset::Flat, 0.8),
-        SimSettings::default(),
-        q.as_slice(),
-        gains,
-    )
-    .unwrap();
+    let (mut sim, q) = standing_talos();
+    let model = sim.model().clone();
     let mut sensors = Sensors::new(&model, &SensorLayout::default(), noise, seed).unwrap();
     let cmd = hold(&model, &q);
     for _ in 0..(seconds * 1000.0) as usize {

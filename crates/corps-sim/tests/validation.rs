@@ -233,26 +233,6 @@ fn a_dropped_box_settles_without_gaining_energy() {
     );
 }
 
-/// TALOS in half-sitting on flat ground under the joint PD hold.
-fn standing_talos() -> (Simulator, DVector<f64>) {
-    let model = talos();
-    let mut q = model
-        .reference_configuration("half_sitting")
-        .unwrap()
-        .clone();
-    place_on_ground(&model, q.as_mut_slice(), 0.0).unwrap();
-    let gains = ServoGains::high_gain(&model, q.as_slice(), 0.02, 1.0).unwrap();
-    let s = Simulator::new(
-        model,
-        Terrain::preset(TerrainPreset::Flat, 0.8),
-        SimSettings::default(),
-        q.as_slice(),
-        gains,
-    )
-    .unwrap();
-    (s, q)
-}
-
 fn sole_positions(s: &Simulator) -> [Vector3<f64>; 2] {
     let m = s.model();
     ["leg_left_sole_fix_joint", "leg_right_sole_fix_joint"].map(|f| {

@@ -59,3 +59,24 @@ pub fn hold(model: &Model, q: &DVector<f64>) -> Command {
         v_ref: DVector::zeros(model.nv - first_actuated(model)),
     }
 }
+
+/// TALOS in half-sitting placed on flat ground (μ 0.8), default settings, with the stiff
+/// joint PD servo; returns the simulator and the configuration it holds.
+pub fn standing_talos() -> (Simulator, DVector<f64>) {
+    let model = talos();
+    let mut q = model
+        .reference_configuration("half_sitting")
+        .unwrap()
+        .clone();
+    place_on_ground(&model, q.as_mut_slice(), 0.0).unwrap();
+    let gains = ServoGains::high_gain(&model, q.as_slice(), 0.02, 1.0).unwrap();
+    let s = Simulator::new(
+        model,
+        Terrain::preset(TerrainPreset::Flat, 0.8),
+        SimSettings::default(),
+        q.as_slice(),
+        gains,
+    )
+    .unwrap();
+    (s, q)
+}
