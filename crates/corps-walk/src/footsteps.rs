@@ -1,0 +1,518 @@
+//! Footstep plans: where and when each foot lands, the ZMP reference they imply and the
+//! contact phase at any time.
+//!
+//! Timeline: an initial double support (the ZMP moves from the middle of the feet to the first
+//! support foot), then for each step a single support (the step's foot swings to its new pose)
+//! followed by a double support (the ZMP moves linearly to the foot that just landed); after the
+//! last step a final double support brings the ZMP back to the middle of the feet, where it
+//! stays. The ZMP reference is the support foot's centre in single support and moves linearly
+//! in double support (Kajita 2003 §IV; the piecewise-linear reference of CCC's
+//! `FootstepManager`).
+
+use crate::pose::{FootPose, FootVelocity};
+use crate::reference::ContactPhase;
+use crate::swing_foot::{SwingTrajectory, DEFAULT_APEX_HEIGHT};
+use crate::{Foot, WalkError};
+use nalgebra::Vector3;
+
+/// One step: which foot moves and where it lands.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Footstep {
+    /// The swinging foot.
+    pub foot: Foot,
+    /// Its landing pose.
+    pub pose: FootPose,
+}
+
+/// Step timing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepTiming {
+    /// Single-support (swing) duration (s).
+    pub single_support: f64,
+    /// Double-support duration between steps (s).
+    pub double_support: f64,
+    /// Initial double support, before the first lift-off (s).
+    pub initial_double_support: f64,
+    /// Final double support, after the last touch-down (s).
+    pub final_double_support: f64,
+}
+
+impl StepTiming {
+    /// SS / DS with initial and final double supports of one step period each (a slow first
+    /// CoM shift, as in seed 000 S12 "first CoM shift quasi-static").
+    pub fn new(single_support: f64, double_support: f64) -> Self {
+        let period = single_support + double_support;
+        Self {
+            single_support,
+            double_support,
+            initial_double_support: period,
+            final_double_support: period,
+        }
+    }
+
+    /// Seed 000 §4 (L4681–L4686): SS 0.9 s, DS 0.115 s (20 cm and 60 cm walks).
+    pub fn seed000_nominal() -> Self {
+        Self::new(0.9, 0.115)
+    }
+
+    /// Seed 000 §4 faster walk: SS 0.711 s, DS 0.089 s.
+    pub fn seed000_fast() -> Self {
+        Self::new(0.711, 0.089)
+    }
+
+    /// Seed 002 §4.4: SS 1.0 s, DS 0.2 s (jrl-walkgen settings on Pyrène).
+    pub fn seed002() -> Self {
+        Self::new(1.0, 0.2)
+    }
+
+    fn validate(&self) -> Result<(), WalkError> {
+        let ok = |v: f64| v.is_finite() && v > 0.0;
+        if !ok(self.single_support) || !ok(self.double_support) {
+            return Err(WalkError::InvalidParameter(
+                "step durations must be finite and > 0",
+            ));
+        }
+        if !ok(self.initial_double_support) || !ok(self.final_double_support) {
+            return Err(WalkError::InvalidParameter(
+                "initial and final double supports must be finite and > 0",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// What the plan prescribes at one instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanSample {
+    /// Contact phase.
+    pub phase: ContactPhase,
+    /// ZMP reference (x, y, and the ground height z under it).
+    pub zmp: Vector3<f64>,
+    /// Rate of change of the ZMP reference.
+    pub zmp_vel: Vector3<f64>,
+    /// Left foot pose.
+    pub left: FootPose,
+    /// Right foot pose.
+    pub right: FootPose,
+    /// Left foot velocity.
+    pub left_vel: FootVelocity,
+    /// Right foot velocity.
+    pub right_vel: FootVelocity,
+}
+
+/// A timed sequence of footsteps from an initial stance.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FootstepPlan {
+    initial_left: FootPose,
+    initial_right: FootPose,
+    steps: Vec<Footstep>,
+    /// Pose each step's foot leaves from.
+    liftoff: Vec<FootPose>,
+    timing: StepTiming,
+    swing_height: f64,
+}
+
+fn mid(a: &FootPose, b: &FootPose) -> Vector3<f64> {
+    Vector3::new(0.5 * (a.x + b.x), 0.5 * (a.y + b.y), 0.5 * (a.z + b.z))
+}
+
+fn pos(a: &FootPose) -> Vector3<f64> {
+    Vector3::new(a.x, a.y, a.z)
+}
+
+impl FootstepPlan {
+    /// A plan from the initial feet and the steps (the swing apex height defaults to 5 cm).
+    pub fn new(
+        initial_left: FootPose,
+        initial_right: FootPose,
+        steps: Vec<Footstep>,
+        timing: StepTiming,
+    ) -> Result<Self, WalkError> {
+        timing.validate()?;
+        let (mut l, mut r) = (initial_left, initial_right);
+        let mut liftoff = Vec::with_capacity(steps.len());
+        for s in &steps {
+            let p = s.pose;
+            if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite() && p.yaw.is_finite()) {
+                return Err(WalkError::InvalidParameter("footstep pose must be finite"));
+            }
+            match s.foot {
+                Foot::Left => {
+                    liftoff.push(l);
+                    l = p;
+                }
+                Foot::Right => {
+                    liftoff.push(r);
+                    r = p;
+                }
+            }
+        }
+        Ok(Self {
+            initial_left,
+            initial_right,
+            steps,
+            liftoff,
+            timing,
+            swing_height: DEFAULT_APEX_HEIGHT,
+        })
+    }
+
+    /// Sets the swing apex height (m).
+    pub fn with_swing_height(mut self, height: f64) -> Self {
+        self.swing_height = height;
+        self
+    }
+
+    /// Feet side by side at the origin, `feet_distance` apart, facing +x.
+    pub fn initial_stance(feet_distance: f64) -> (FootPose, FootPose) {
+        (
+            FootPose::new(0.0, 0.5 * feet_distance, 0.0, 0.0),
+            FootPose::new(0.0, -0.5 * feet_distance, 0.0, 0.0),
+        )
+    }
+
+    /// Straight walk: `n` steps of length `step_length` (each foot lands `step_length` ahead of
+    /// the previous one, starting with `first`), then a closing step that brings the other foot
+    /// beside the last one. Seed 000 S5: `straight(6, 0.2, …)` travels 1.2 m (SS 0.9, DS 0.115);
+    /// S7: `straight(6, 0.6, …)`.
+    pub fn straight(
+        n: usize,
+        step_length: f64,
+        feet_distance: f64,
+        first: Foot,
+        timing: StepTiming,
+    ) -> Result<Self, WalkError> {
+        Self::stairs_like(n, step_length, 0.0, feet_distance, first, timing)
+    }
+
+    /// Stairs: `n` steps each `tread` forward and `rise` up, plus a closing step on the last
+    /// stair (seed 000 S9: 6 stairs of 10 cm rise and 30 cm tread).
+    pub fn stairs(
+        n: usize,
+        rise: f64,
+        tread: f64,
+        feet_distance: f64,
+        first: Foot,
+        timing: StepTiming,
+    ) -> Result<Self, WalkError> {
+        Self::stairs_like(n, tread, rise, feet_distance, first, timing)
+    }
+
+    /// Walking in place: `n` steps, each foot landing where it lifted off.
+    pub fn in_place(
+        n: usize,
+        feet_distance: f64,
+        first: Foot,
+        timing: StepTiming,
+    ) -> Result<Self, WalkError> {
+        let (l, r) = Self::initial_stance(feet_distance);
+        let mut foot = first;
+        let steps = (0..n)
+            .map(|_| {
+                let s = Footstep {
+                    foot,
+                    pose: if foot == Foot::Left { l } else { r },
+                };
+                foot = foot.other();
+                s
+            })
+            .collect();
+        Self::new(l, r, steps, timing)
+    }
+
+    fn stairs_like(
+        n: usize,
+        dx: f64,
+        dz: f64,
+        feet_distance: f64,
+        first: Foot,
+        timing: StepTiming,
+    ) -> Result<Self, WalkError> {
+        if !(feet_distance.is_finite() && feet_distance > 0.0) {
+            return Err(WalkError::InvalidParameter(
+                "feet_distance must be finite and > 0",
+            ));
+        }
+        let (l, r) = Self::initial_stance(feet_distance);
+        let mut steps = Vec::with_capacity(n + 1);
+        let mut foot = first;
+        for k in 1..=n {
+            let y = foot.side() * 0.5 * feet_distance;
+            steps.push(Footstep {
+                foot,
+                pose: FootPose::new(k as f64 * dx, y, k as f64 * dz, 0.0),
+            });
+            foot = foot.other();
+        }
+        if n > 0 {
+            let y = foot.side() * 0.5 * feet_distance;
+            steps.push(Footstep {
+                foot,
+                pose: FootPose::new(n as f64 * dx, y, n as f64 * dz, 0.0),
+            });
+        }
+        Self::new(l, r, steps, timing)
+    }
+
+    /// The steps.
+    pub fn steps(&self) -> &[Footstep] {
+        &self.steps
+    }
+
+    /// Step timing.
+    pub fn timing(&self) -> &StepTiming {
+        &self.timing
+    }
+
+    /// Initial left and right foot poses.
+    pub fn initial_feet(&self) -> (FootPose, FootPose) {
+        (self.initial_left, self.initial_right)
+    }
+
+    /// Final left and right foot poses.
+    pub fn final_feet(&self) -> (FootPose, FootPose) {
+        let (mut l, mut r) = (self.initial_left, self.initial_right);
+        for s in &self.steps {
+            match s.foot {
+                Foot::Left => l = s.pose,
+                Foot::Right => r = s.pose,
+            }
+        }
+        (l, r)
+    }
+
+    /// Time of lift-off of step `i`.
+    pub fn liftoff_time(&self, i: usize) -> f64 {
+        let t = &self.timing;
+        t.initial_double_support + i as f64 * (t.single_support + t.double_support)
+    }
+
+    /// Time of touch-down of step `i`.
+    pub fn touchdown_time(&self, i: usize) -> f64 {
+        self.liftoff_time(i) + self.timing.single_support
+    }
+
+    /// Time at which the ZMP reaches the middle of the final stance; the plan is static after.
+    pub fn duration(&self) -> f64 {
+        if self.steps.is_empty() {
+            return 0.0;
+        }
+        self.touchdown_time(self.steps.len() - 1) + self.timing.final_double_support
+    }
+
+    /// The feet before step `i` lifts off (after steps `0..i`).
+    fn feet_before(&self, i: usize) -> (FootPose, FootPose) {
+        // the foot that swings in step i is at liftoff[i]; the other one is where the last
+        // step of that foot put it (or initial)
+        let s = &self.steps[i];
+        let other = if i > 0 && self.steps[i - 1].foot != s.foot {
+            self.steps[i - 1].pose
+        } else {
+            // two steps of the same foot in a row, or the first step: search back
+            let mut o = match s.foot {
+                Foot::Left => self.initial_right,
+                Foot::Right => self.initial_left,
+            };
+            for st in self.steps[..i].iter().rev() {
+                if st.foot != s.foot {
+                    o = st.pose;
+                    break;
+                }
+            }
+            o
+        };
+        match s.foot {
+            Foot::Left => (self.liftoff[i], other),
+            Foot::Right => (other, self.liftoff[i]),
+        }
+    }
+
+    /// Phase, ZMP reference and feet at time `t` (constant before 0 and after
+    /// [`FootstepPlan::duration`]).
+    pub fn sample(&self, t: f64) -> PlanSample {
+        let tm = &self.timing;
+        let still = FootVelocity::default();
+        let n = self.steps.len();
+        let mut out = PlanSample {
+            phase: ContactPhase::Double,
+            zmp: mid(&self.initial_left, &self.initial_right),
+            zmp_vel: Vector3::zeros(),
+            left: self.initial_left,
+            right: self.initial_right,
+            left_vel: still,
+            right_vel: still,
+        };
+        if n == 0 || t <= 0.0 {
+            return out;
+        }
+        let support_of = |i: usize| -> FootPose {
+            let (l, r) = self.feet_before(i);
+            if self.steps[i].foot == Foot::Left {
+                r
+            } else {
+                l
+            }
+        };
+        if t < tm.initial_double_support {
+            let a = mid(&self.initial_left, &self.initial_right);
+            let b = pos(&support_of(0));
+            let lam = t / tm.initial_double_support;
+            out.zmp = a + (b - a) * lam;
+            out.zmp_vel = (b - a) / tm.initial_double_support;
+            return out;
+        }
+        let period = tm.single_support + tm.double_support;
+        let tau = t - tm.initial_double_support;
+        let i = ((tau / period).floor() as usize).min(n - 1);
+        let local = tau - i as f64 * period;
+        let step = self.steps[i];
+        let (l, r) = self.feet_before(i);
+        let support = support_of(i);
+        if local < tm.single_support {
+            let swing = SwingTrajectory::new(
+                &self.liftoff[i],
+                &step.pose,
+                tm.single_support,
+                self.swing_height,
+            );
+            let (p, v) = swing.sample(local);
+            out.zmp = pos(&support);
+            match step.foot {
+                Foot::Left => {
+                    out.phase = ContactPhase::RightSupport;
+                    (out.left, out.left_vel, out.right) = (p, v, r);
+                }
+                Foot::Right => {
+                    out.phase = ContactPhase::LeftSupport;
+                    (out.right, out.right_vel, out.left) = (p, v, l);
+                }
+            }
+            return out;
+        }
+        // double support after step i
+        let (nl, nr) = match step.foot {
+            Foot::Left => (step.pose, r),
+            Foot::Right => (l, step.pose),
+        };
+        out.left = nl;
+        out.right = nr;
+        let ds_t = local - tm.single_support;
+        let (a, b, dur) = if i + 1 < n {
+            (pos(&support), pos(&step.pose), tm.double_support)
+        } else {
+            (pos(&support), mid(&nl, &nr), tm.final_double_support)
+        };
+        if ds_t >= dur {
+            out.zmp = b;
+        } else {
+            out.zmp = a + (b - a) * (ds_t / dur);
+            out.zmp_vel = (b - a) / dur;
+        }
+        out
+    }
+
+    /// Contact phase at time `t`.
+    pub fn phase_at(&self, t: f64) -> ContactPhase {
+        self.sample(t).phase
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::support_polygon::{ConvexPolygon, FootGeometry};
+
+    #[test]
+    fn seed000_straight_walk() {
+        let plan = FootstepPlan::straight(6, 0.2, 0.17, Foot::Left, StepTiming::seed000_nominal())
+            .unwrap();
+        assert_eq!(plan.steps().len(), 7);
+        let (l, r) = plan.final_feet();
+        assert!(
+            (l.x - 1.2).abs() < 1e-12 && (r.x - 1.2).abs() < 1e-12,
+            "1.2 m travelled"
+        );
+        // alternating feet, each landing 0.2 m ahead of the previous footprint
+        for w in plan.steps()[..6].windows(2) {
+            assert_ne!(w[0].foot, w[1].foot);
+            assert!((w[1].pose.x - w[0].pose.x - 0.2).abs() < 1e-12);
+        }
+        let t = plan.timing();
+        let d = plan.duration();
+        let expected = t.initial_double_support + 6.0 * 1.015 + 0.9 + t.final_double_support;
+        assert!((d - expected).abs() < 1e-12);
+    }
+
+    #[test]
+    fn phases_and_zmp_reference() {
+        let timing = StepTiming::seed000_fast();
+        let plan = FootstepPlan::straight(3, 0.2, 0.2, Foot::Right, timing).unwrap();
+        let ti = timing.initial_double_support;
+        assert_eq!(plan.phase_at(0.5 * ti), ContactPhase::Double);
+        // first step: the right foot swings, the ZMP sits on the left foot (0, 0.1)
+        let s = plan.sample(ti + 0.3);
+        assert_eq!(s.phase, ContactPhase::LeftSupport);
+        assert_eq!(s.phase.code(), 1);
+        assert!((s.zmp - Vector3::new(0.0, 0.1, 0.0)).norm() < 1e-12);
+        assert!(s.right.z > 0.0 && s.left == plan.initial_feet().0);
+        // mid double support after the first step: halfway between (0, 0.1) and (0.2, −0.1)
+        let s = plan.sample(ti + 0.711 + 0.0445);
+        assert_eq!(s.phase, ContactPhase::Double);
+        assert!((s.zmp - Vector3::new(0.1, 0.0, 0.0)).norm() < 1e-12);
+        assert!((s.right.x - 0.2).abs() < 1e-12 && s.right.z == 0.0);
+        // second step: the left swings, right support, code −1
+        assert_eq!(plan.phase_at(ti + 0.8 + 0.1).code(), -1);
+        // the ZMP reference is continuous and always inside the support polygon of the phase
+        let g = FootGeometry::TALOS;
+        let mut prev = plan.sample(0.0).zmp;
+        let mut t = 0.0;
+        while t < plan.duration() + 1.0 {
+            let s = plan.sample(t);
+            // fastest ZMP motion: 0.2 m forward and 0.2 m across in one 0.089 s double support
+            assert!(
+                (s.zmp - prev).norm() <= 0.2 * 2f64.sqrt() * 0.001 / 0.089 + 1e-9,
+                "jump at {t}"
+            );
+            prev = s.zmp;
+            let poly = match s.phase {
+                ContactPhase::Double => ConvexPolygon::double_support(&s.left, &s.right, &g),
+                ContactPhase::LeftSupport => ConvexPolygon::foot(&s.left, &g),
+                ContactPhase::RightSupport => ConvexPolygon::foot(&s.right, &g),
+            };
+            assert!(poly.contains(&s.zmp.xy(), 1e-12), "t = {t}");
+            t += 0.001;
+        }
+        // ends between the feet
+        let s = plan.sample(plan.duration() + 5.0);
+        let (l, r) = plan.final_feet();
+        assert!((s.zmp - mid(&l, &r)).norm() < 1e-12);
+    }
+
+    #[test]
+    fn stairs_and_in_place() {
+        let plan =
+            FootstepPlan::stairs(6, 0.1, 0.3, 0.2, Foot::Left, StepTiming::seed000_nominal())
+                .unwrap();
+        let (l, r) = plan.final_feet();
+        assert!(
+            (l.z - 0.6).abs() < 1e-12 && (r.z - 0.6).abs() < 1e-12 && (l.x - 1.8).abs() < 1e-12
+        );
+        // ZMP height follows the support foot (step 2 stands on step 1's stair, z = 0.2)
+        let s = plan.sample(plan.touchdown_time(2) - 0.1);
+        assert!((s.zmp.z - 0.2).abs() < 1e-12);
+        // step 1 (right foot, z 0 → 0.2) passes 5 cm above the upper stair at mid-swing
+        let mid_swing = plan.sample(plan.liftoff_time(1) + 0.45);
+        assert!((mid_swing.right.z - 0.25).abs() < 1e-12);
+
+        let plan = FootstepPlan::in_place(4, 0.2, Foot::Left, StepTiming::seed002()).unwrap();
+        let (l0, r0) = plan.initial_feet();
+        assert_eq!(plan.final_feet(), (l0, r0));
+        assert_eq!(
+            plan.phase_at(plan.liftoff_time(0) + 0.5),
+            ContactPhase::RightSupport
+        );
+        assert!(
+            FootstepPlan::straight(2, 0.2, 0.2, Foot::Left, StepTiming::new(0.0, 0.1)).is_err()
+        );
+    }
+}
