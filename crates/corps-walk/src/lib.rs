@@ -9,7 +9,9 @@ mod error;
 pub mod footsteps;
 pub mod lipm;
 pub mod pose;
+pub mod preview_control;
 pub mod reference;
+pub mod riccati;
 pub mod support_polygon;
 pub mod swing_foot;
 
