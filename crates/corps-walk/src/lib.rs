@@ -10,6 +10,7 @@ pub mod footsteps;
 pub mod lipm;
 pub mod pose;
 pub mod preview_control;
+pub mod preview_walk;
 pub mod reference;
 pub mod riccati;
 pub mod support_polygon;

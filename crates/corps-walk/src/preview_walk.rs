@@ -1,0 +1,116 @@
+//! Footstep-driven pattern generator: Kajita 2003 preview control of the LIPM tracking the
+//! piecewise-linear ZMP reference of a [`FootstepPlan`], producing a [`WalkingReference`] per
+//! control period.
+//!
+//! The plan starts after a standing phase as long as the preview window (`N T`, 1.6 s by
+//! default): the controller must see the first ZMP transfer a whole window ahead, otherwise the
+//! non-minimum-phase cart-table has to throw its ZMP far outside the feet to catch up (measured:
+//! 0.84 m at the first tick when the plan starts at t = 0). Plan time is generator time minus
+//! [`PreviewWalk::lead_time`].
+//!
+//! The CoM height is `z_c` above the ground height under the ZMP reference (so that on stairs
+//! the CoM climbs with the support foot); its vertical velocity is the rate of that ground
+//! height, and its vertical acceleration is taken as zero (the LIPM assumption).
+
+use crate::footsteps::FootstepPlan;
+use crate::preview_control::{PreviewAxis, PreviewController, PreviewParams};
+use crate::reference::WalkingReference;
+use crate::WalkError;
+use nalgebra::Vector3;
+
+/// Preview-control walking pattern generator over a footstep plan.
+#[derive(Debug, Clone)]
+pub struct PreviewWalk {
+    plan: FootstepPlan,
+    controller: PreviewController,
+    params: PreviewParams,
+    x: PreviewAxis,
+    y: PreviewAxis,
+    tick: u64,
+    buf_x: Vec<f64>,
+    buf_y: Vec<f64>,
+}
+
+impl PreviewWalk {
+    /// A generator for `plan` with preview control of parameters `params` (with integral
+    /// action), the CoM starting at rest above the middle of the initial feet.
+    pub fn new(plan: FootstepPlan, params: PreviewParams) -> Result<Self, WalkError> {
+        let controller = PreviewController::with_integral(&params)?;
+        let n = controller.horizon();
+        let start = plan.sample(0.0).zmp;
+        Ok(Self {
+            plan,
+            controller,
+            params,
+            x: PreviewAxis::at_rest(start.x),
+            y: PreviewAxis::at_rest(start.y),
+            tick: 0,
+            buf_x: vec![0.0; n + 1],
+            buf_y: vec![0.0; n + 1],
+        })
+    }
+
+    /// The plan.
+    pub fn plan(&self) -> &FootstepPlan {
+        &self.plan
+    }
+
+    /// The preview controller (gains).
+    pub fn controller(&self) -> &PreviewController {
+        &self.controller
+    }
+
+    /// Current time `k T` (plan time plus [`PreviewWalk::lead_time`]).
+    pub fn time(&self) -> f64 {
+        self.tick as f64 * self.params.period
+    }
+
+    /// Standing time before the plan starts: the preview window `N T`.
+    pub fn lead_time(&self) -> f64 {
+        self.controller.horizon() as f64 * self.params.period
+    }
+
+    /// Time of the plan corresponding to generator time `t`.
+    pub fn plan_time(&self, t: f64) -> f64 {
+        t - self.lead_time()
+    }
+
+    /// `true` once the plan is over.
+    pub fn finished(&self) -> bool {
+        self.plan_time(self.time()) > self.plan.duration()
+    }
+
+    /// The reference at the current time, then one control period of preview control.
+    /// Never allocates.
+    pub fn step(&mut self) -> Result<WalkingReference, WalkError> {
+        let t = self.time();
+        let tp = self.plan_time(t);
+        let dt = self.params.period;
+        for j in 0..self.buf_x.len() {
+            let z = self.plan.sample(tp + j as f64 * dt).zmp;
+            self.buf_x[j] = z.x;
+            self.buf_y[j] = z.y;
+        }
+        let s = self.plan.sample(tp);
+        let m = &self.controller.model;
+        let zc = self.params.lipm.com_height;
+        let mut r = WalkingReference {
+            time: t,
+            com: Vector3::new(self.x.x[0], self.y.x[0], s.zmp.z + zc),
+            com_vel: Vector3::new(self.x.x[1], self.y.x[1], s.zmp_vel.z),
+            com_acc: Vector3::new(self.x.x[2], self.y.x[2], 0.0),
+            zmp: Vector3::new(m.zmp(&self.x.x), m.zmp(&self.y.x), s.zmp.z),
+            left_foot: s.left,
+            right_foot: s.right,
+            left_foot_vel: s.left_vel,
+            right_foot_vel: s.right_vel,
+            phase: s.phase,
+            ..Default::default()
+        };
+        r.complete(self.params.lipm.omega());
+        self.controller.step(&mut self.x, &self.buf_x)?;
+        self.controller.step(&mut self.y, &self.buf_y)?;
+        self.tick += 1;
+        Ok(r)
+    }
+}

@@ -1,0 +1,95 @@
+//! Closed-loop preview-control walks on the LIPM (robot-free, as in CCC's
+//! TestPreviewControlZmp; anchors §4.3 "Robot-free closed-loop tests").
+
+use corps_walk::preview_control::PreviewParams;
+use corps_walk::preview_walk::PreviewWalk;
+use corps_walk::{ContactPhase, ConvexPolygon, Foot, FootGeometry, FootstepPlan, StepTiming};
+
+/// Walks `plan` to the end plus 3 s; returns (max |ZMP − ZMP_ref|, max signed distance of the
+/// ZMP to the support polygon, final CoM error to the middle of the feet, final CoM speed).
+fn walk(plan: FootstepPlan) -> (f64, f64, f64, f64) {
+    let params = PreviewParams::talos();
+    let mut g = PreviewWalk::new(plan.clone(), params).unwrap();
+    let sole = FootGeometry::TALOS;
+    let (mut max_err, mut max_out) = (0.0f64, f64::NEG_INFINITY);
+    let mut last = None;
+    while g.plan_time(g.time()) < plan.duration() + 3.0 {
+        let r = g.step().unwrap();
+        let s = plan.sample(g.plan_time(r.time));
+        max_err = max_err.max((r.zmp.xy() - s.zmp.xy()).norm());
+        let poly = match r.phase {
+            ContactPhase::Double => {
+                ConvexPolygon::double_support(&r.left_foot, &r.right_foot, &sole)
+            }
+            ContactPhase::LeftSupport => ConvexPolygon::foot(&r.left_foot, &sole),
+            ContactPhase::RightSupport => ConvexPolygon::foot(&r.right_foot, &sole),
+        };
+        max_out = max_out.max(poly.signed_distance(&r.zmp.xy()));
+        // waist yaw is recomputed from the feet every tick (seed 002 §4.13)
+        assert_eq!(
+            r.waist_yaw,
+            corps_walk::waist_yaw(r.left_foot.yaw, r.right_foot.yaw)
+        );
+        last = Some(r);
+    }
+    let r = last.unwrap();
+    let (l, rf) = plan.final_feet();
+    let mid = nalgebra::Vector2::new(0.5 * (l.x + rf.x), 0.5 * (l.y + rf.y));
+    let com_err = (r.com.xy() - mid).norm();
+    let speed = r.com_vel.xy().norm();
+    (max_err, max_out, com_err, speed)
+}
+
+/// Seed 000 S5: six 20 cm steps plus a closing step, SS 0.9 s / DS 0.115 s, TALOS CoM height
+/// and feet 0.162 m apart (seed 002 `:setDSFeetDistance`). Pass: ZMP tracking error < 0.1 m
+/// (anchors §4.3 / CCC) and, stricter and physical, the ZMP never leaves the support polygon
+/// of the TALOS sole; at the end CoM within 1 cm of the middle of the feet, speed < 1 cm/s
+/// (CCC's convergence bounds).
+#[test]
+fn preview_control_walks_seed000_20cm_plan() {
+    let plan =
+        FootstepPlan::straight(6, 0.2, 0.162, Foot::Left, StepTiming::seed000_nominal()).unwrap();
+    let (err, out, com, speed) = walk(plan);
+    eprintln!("20 cm / 0.9–0.115: max ZMP error {err:.4} m, max signed distance {out:.4} m, final CoM error {com:.2e} m, speed {speed:.2e} m/s");
+    assert!(err < 0.1);
+    assert!(out <= 0.0);
+    assert!(com < 1e-2 && speed < 1e-2);
+}
+
+/// Same with the faster seed 000 timing (SS 0.711 / DS 0.089) and the 60 cm steps (S6, S7).
+#[test]
+fn preview_control_walks_fast_and_long_plans() {
+    for (len, timing) in [
+        (0.2, StepTiming::seed000_fast()),
+        (0.6, StepTiming::seed000_nominal()),
+    ] {
+        let plan = FootstepPlan::straight(6, len, 0.162, Foot::Right, timing).unwrap();
+        let (err, out, com, speed) = walk(plan);
+        eprintln!("{len} m steps, SS {}: max ZMP error {err:.4} m, max signed distance {out:.4} m, final CoM error {com:.2e}, speed {speed:.2e}", timing.single_support);
+        assert!(err < 0.1);
+        assert!(out <= 0.0);
+        assert!(com < 1e-2 && speed < 1e-2);
+    }
+}
+
+/// Stairs (seed 000 S9: 6 × 10 cm rise, 30 cm tread): the CoM height follows the support.
+#[test]
+fn preview_control_climbs_stairs() {
+    let plan = FootstepPlan::stairs(
+        6,
+        0.1,
+        0.3,
+        0.162,
+        Foot::Left,
+        StepTiming::seed000_nominal(),
+    )
+    .unwrap();
+    let mut g = PreviewWalk::new(plan.clone(), PreviewParams::talos()).unwrap();
+    let mut r = g.step().unwrap();
+    while g.plan_time(g.time()) < plan.duration() + 3.0 {
+        r = g.step().unwrap();
+    }
+    assert!((r.com.z - (0.6 + PreviewParams::talos().lipm.com_height)).abs() < 1e-12);
+    let (err, out, _, _) = walk(plan);
+    assert!(err < 0.1 && out <= 0.0);
+}
