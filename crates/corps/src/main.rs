@@ -1,9 +1,9 @@
 //! `corps`: the command-line entry point. Library errors become one clear line on stderr and a
 //! non-zero exit status.
 
-mod default_robot;
 mod model_cmd;
-mod sim_cmd;
+
+use corps::{run, sim_cmd};
 
 use clap::{Parser, Subcommand};
 
@@ -25,6 +25,9 @@ enum Command {
     Model(model_cmd::ModelCommand),
     /// Run a simulation scenario (TOML): log every signal to CSV, plot, summarize.
     Sim(sim_cmd::SimArgs),
+    /// Run a whole-body controller on the simulated robot (TOML scenario): print the metrics,
+    /// write the log, metrics and plots.
+    Run(run::RunArgs),
 }
 
 fn main() {
@@ -32,6 +35,7 @@ fn main() {
     let result = match cli.command {
         Command::Model(cmd) => model_cmd::run(cmd),
         Command::Sim(args) => sim_cmd::run(args),
+        Command::Run(args) => run::run(args),
     };
     if let Err(e) = result {
         eprintln!("corps: error: {e:#}");

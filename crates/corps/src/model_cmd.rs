@@ -1,8 +1,8 @@
 //! `corps model inspect` and `corps model eval`.
 
-use crate::default_robot::load_model;
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
+use corps::default_robot::load_model;
 use corps_model::*;
 use nalgebra::{DMatrix, Matrix3xX, Matrix6xX};
 use serde::{Deserialize, Serialize};

@@ -142,3 +142,58 @@ fn errors_are_one_line_and_exit_non_zero() {
     let (ok, _, err) = corps(&["model", "inspect", "--urdf", "/nonexistent.urdf"]);
     assert!(!ok && err.contains("/nonexistent.urdf"));
 }
+
+#[test]
+fn run_prints_metrics_and_writes_them_with_the_log_and_plots() {
+    let out = tempfile::tempdir().unwrap();
+    let dir = out.path().to_str().unwrap();
+    let (ok, stdout, stderr) = corps(&[
+        "run",
+        &repo("scenarios/control/tsid_torque_stand.toml"),
+        "--duration",
+        "0.3",
+        "-o",
+        dir,
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("TSID (torque)") && stdout.contains("CoM"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("controller time per tick"), "{stdout}");
+    let metrics: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.path().join("metrics.json")).unwrap())
+            .unwrap();
+    assert!((metrics["duration"].as_f64().unwrap() - 0.3).abs() < 1e-9);
+    assert_eq!(metrics["fallbacks"], json!(0));
+    let log = std::fs::read_to_string(out.path().join("log.csv")).unwrap();
+    // log_every = 10: 300 ticks give 30 rows after the header.
+    assert_eq!(log.lines().count(), 31);
+    for plot in ["com.png", "zmp.png", "feet.png", "tick_time.png"] {
+        assert!(out.path().join(plot).is_file(), "{plot}");
+    }
+}
+
+#[test]
+fn run_and_sim_reject_each_others_scenarios_and_bad_gains_in_one_line() {
+    let (ok, _, stderr) = corps(&["run", &repo("scenarios/stand_flat.toml")]);
+    assert!(!ok);
+    assert!(stderr.contains("no [controller] section"), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+
+    let (ok, _, stderr) = corps(&["sim", &repo("scenarios/control/tsid_torque_stand.toml")]);
+    assert!(!ok);
+    assert!(stderr.contains("corps run"), "{stderr}");
+
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(
+        &bad,
+        "duration = 1.0\n[controller]\nkind = \"tsid_torque\"\n[controller.set]\ncom.kp = -1.0\n",
+    )
+    .unwrap();
+    let (ok, _, stderr) = corps(&["run", bad.to_str().unwrap()]);
+    assert!(!ok);
+    assert!(stderr.contains("com.kp"), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+}

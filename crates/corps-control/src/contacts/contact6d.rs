@@ -8,6 +8,7 @@ use crate::tasks::{Se3Reference, Se3Task, TaskRows};
 use corps_model::{Model, Result};
 use nalgebra::{DMatrix, DVector, Vector3, Vector6};
 
+#[derive(Clone, Debug)]
 pub struct Contact6d {
     pub name: String,
     pub frame: usize,

@@ -5,6 +5,7 @@ use super::TaskRows;
 use crate::robot_state::RobotState;
 use nalgebra::Vector3;
 
+#[derive(Clone, Debug)]
 pub struct AngularMomentumTask {
     pub kp: Vector3<f64>,
     pub reference: Vector3<f64>,

@@ -5,6 +5,7 @@ use super::{Reference, TaskRows};
 use crate::robot_state::RobotState;
 use nalgebra::{DVector, Vector3};
 
+#[derive(Clone, Debug)]
 pub struct ComTask {
     pub kp: Vector3<f64>,
     pub kd: Vector3<f64>,

@@ -6,6 +6,7 @@ use crate::robot_state::RobotState;
 use corps_model::{difference_to, Model};
 use nalgebra::DVector;
 
+#[derive(Clone, Debug)]
 pub struct PostureTask {
     pub kp: DVector<f64>,
     pub kd: DVector<f64>,

@@ -26,11 +26,15 @@ pub fn se3_error(o_m_f: &Se3, m_ref: &Se3) -> Motion {
     Motion::new(err.translation, log3(&err.rotation))
 }
 
+#[derive(Clone, Debug)]
 pub struct Se3Task {
     pub frame: usize,
     pub kp: Vector6<f64>,
     pub kd: Vector6<f64>,
     pub reference: Se3Reference,
+    /// Which LOCAL axes [linear; angular] the task constrains (1) or leaves free (0): a
+    /// masked-out row is zero on both sides. All ones by default.
+    pub mask: Vector6<f64>,
     jac: Matrix6xX<f64>,
     rows: TaskRows,
 }
@@ -48,6 +52,7 @@ impl Se3Task {
             kp,
             kd,
             reference,
+            mask: Vector6::repeat(1.0),
             jac: Matrix6xX::zeros(nv),
             rows: TaskRows::new(6, nv),
         }
@@ -81,12 +86,13 @@ impl Se3Task {
             drift.to_vector(),
         );
         for k in 0..6 {
-            self.rows.b[k] = self.kp[k] * pe[k] + self.kd[k] * ve[k] + ar[k] - dr[k];
+            self.rows.b[k] =
+                self.mask[k] * (self.kp[k] * pe[k] + self.kd[k] * ve[k] + ar[k] - dr[k]);
         }
         s.frame_jacobian_local(model, self.frame, &mut self.jac)?;
         for r in 0..6 {
             for c in 0..self.jac.ncols() {
-                self.rows.a[(r, c)] = self.jac[(r, c)];
+                self.rows.a[(r, c)] = self.mask[r] * self.jac[(r, c)];
             }
         }
         Ok(&self.rows)

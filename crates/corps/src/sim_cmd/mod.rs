@@ -6,10 +6,10 @@
 //! - [`setup`]: builds robot, terrain, simulator, sensors and command, checking the rest;
 //! - [`log`]: the CSV log; [`plots`]: the PNG plots; [`summary`]: the printed summary.
 
-mod log;
-mod plots;
-mod scenario;
-mod setup;
+pub(crate) mod log;
+pub(crate) mod plots;
+pub(crate) mod scenario;
+pub(crate) mod setup;
 mod summary;
 
 use anyhow::{anyhow, bail, Context, Result};
@@ -49,6 +49,9 @@ pub fn run(args: SimArgs) -> Result<()> {
         Err(e) => bail!("{shown}: cannot read the scenario file: {e}"),
     };
     let mut scenario = Scenario::parse(&text).map_err(|e| anyhow!("{shown}: {e}"))?;
+    if scenario.controller.is_some() {
+        bail!("{shown}: this scenario has a [controller]: run it with `corps run`");
+    }
     if let Some(d) = args.duration {
         scenario = scenario
             .with_duration(d)
@@ -133,7 +136,9 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
                 total_fz,
             },
         );
-        csv.row(&row)?;
+        if tick % scenario.output.log_every == 0 {
+            csv.row(&row)?;
+        }
         traces.push(
             tick,
             &plots::Sample {
@@ -180,7 +185,7 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
 }
 
 /// A progress bar on stderr, hidden when stderr is not a terminal.
-fn progress_bar(ticks: usize) -> ProgressBar {
+pub(crate) fn progress_bar(ticks: usize) -> ProgressBar {
     if !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
     }

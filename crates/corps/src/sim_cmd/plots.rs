@@ -189,17 +189,17 @@ impl Traces {
 }
 
 /// Named series over the common time axis (NaN: gap).
-type Series<'a> = Vec<(String, &'a Vec<f64>)>;
+pub(crate) type Series<'a> = Vec<(String, &'a Vec<f64>)>;
 
 /// One chart: a title, the y unit and its series.
-struct Panel<'a> {
+pub(crate) struct Panel<'a> {
     title: String,
     unit: String,
     series: Series<'a>,
 }
 
 impl<'a> Panel<'a> {
-    fn new(title: &str, unit: &str, series: Series<'a>) -> Self {
+    pub(crate) fn new(title: &str, unit: &str, series: Series<'a>) -> Self {
         Self {
             title: title.into(),
             unit: unit.into(),
@@ -229,7 +229,14 @@ const COLORS: [RGBColor; 8] = [
 
 /// Draws `panels` in a grid of `cols` columns into `path`, through a temporary file renamed
 /// at the end.
-fn draw_figure(path: &Path, title: &str, t: &[f64], panels: &[Panel], cols: usize) -> Result<()> {
+pub(crate) fn draw_figure(
+    path: &Path,
+    title: &str,
+    t: &[f64],
+    panels: &[Panel],
+    cols: usize,
+) -> Result<()> {
+    register_font();
     let rows = panels.len().div_ceil(cols);
     let (w, h) = (1400u32, 80 + 300 * rows as u32);
     let name = path

@@ -37,6 +37,12 @@ pub struct Scenario {
     pub sensors: Option<SensorsSection>,
     #[serde(default)]
     pub output: OutputSection,
+    /// The whole-body controller driving the joints (`corps run`); absent: the constant
+    /// `[actuation]` command (`corps sim`).
+    pub controller: Option<crate::run::ControllerSection>,
+    /// What the controller is asked to do (`corps run`).
+    #[serde(default)]
+    pub motion: crate::run::MotionSection,
 }
 
 /// `[robot]`: the URDF and SRDF, relative to the scenario file. Default: TALOS with box feet.
@@ -147,6 +153,8 @@ pub struct OutputSection {
     pub format: LogFormat,
     /// Write the PNG plots.
     pub plots: bool,
+    /// Log one control tick in this many (1: every tick).
+    pub log_every: usize,
 }
 
 impl Default for OutputSection {
@@ -155,6 +163,7 @@ impl Default for OutputSection {
             directory: None,
             format: LogFormat::Csv,
             plots: true,
+            log_every: 1,
         }
     }
 }
@@ -210,6 +219,13 @@ impl Scenario {
             }
         };
         positive("duration", self.duration, "seconds")?;
+        if self.output.log_every == 0 {
+            return Err("output.log_every: must be at least 1".into());
+        }
+        if let Some(c) = &self.controller {
+            c.check()?;
+        }
+        self.motion.check()?;
         if let Some(name) = &self.name {
             if name.is_empty() || name.contains(['/', '\\']) || name == "." || name == ".." {
                 return Err(format!(

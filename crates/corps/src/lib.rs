@@ -1,0 +1,7 @@
+//! The library behind the `corps` command: the default robots, simulation scenarios
+//! (`corps sim`) and closed-loop controller runs (`corps run`). Tests drive the same code the
+//! command runs.
+
+pub mod default_robot;
+pub mod run;
+pub mod sim_cmd;

@@ -1,0 +1,127 @@
+//! Controller A: the hierarchical velocity IK of seed 000 §3.7 (Table 4.1's stack) in
+//! position mode. The IK reads its own integrated state (q_des, v_des), not the measurement
+//! (L4538–L4550); q_des and v_des go to the joint servos. Feet are priority-0 frame tasks
+//! that follow the foot targets, in contact or not.
+
+use super::WholeBodyController;
+use crate::run::controller::tsid::TALOS_WAIST;
+use crate::run::gains::IkGainsFile;
+use crate::run::motion::Targets;
+use anyhow::Result;
+use corps_control::formulation::{IkGains, InverseKinematics, StackFrames};
+use corps_control::{ControlError, FallbackReason, RobotState};
+use corps_model::Model;
+use corps_sim::Command;
+use nalgebra::{DVector, Vector3};
+use std::sync::Arc;
+
+/// Task names of the feet in `InverseKinematics::standing_stack`, left then right.
+const FEET_TASKS: [&str; 2] = ["contact_left", "contact_right"];
+
+pub struct IkController {
+    model: Arc<Model>,
+    ik: InverseKinematics,
+    state: RobotState,
+    q_des: DVector<f64>,
+    v_des: DVector<f64>,
+    command: Command,
+}
+
+impl IkController {
+    /// The stack at the measured state (q, v), posture towards `q_posture`.
+    pub fn new(
+        model: Arc<Model>,
+        gains: IkGainsFile,
+        dt: f64,
+        q: &DVector<f64>,
+        q_posture: &DVector<f64>,
+    ) -> Result<Self> {
+        gains.check()?;
+        let mut state = RobotState::new(&model);
+        let v0 = DVector::zeros(model.nv);
+        state.update(&model, q.as_slice(), v0.as_slice())?;
+        let frames = StackFrames {
+            waist: TALOS_WAIST,
+            ..StackFrames::TALOS
+        };
+        let g = IkGains {
+            contacts: gains.contacts,
+            com_height: gains.com_height,
+            com: gains.com,
+            waist: gains.waist,
+            posture: gains.posture,
+        };
+        let ik = InverseKinematics::standing_stack(&model, &state, dt, &frames, &g, q_posture)?;
+        let na = model.nv - 6;
+        Ok(Self {
+            ik,
+            state,
+            q_des: q.clone(),
+            v_des: v0,
+            command: Command::Position {
+                q_ref: q.clone(),
+                v_ref: DVector::zeros(na),
+            },
+            model,
+        })
+    }
+
+    fn set_references(&mut self, targets: &Targets) -> Result<(), ControlError> {
+        for name in ["com_height", "com_xy"] {
+            if let Some(task) = self.ik.task_mut(name)?.as_com_mut() {
+                task.reference.clone_from(&targets.com);
+            }
+        }
+        for (name, foot) in FEET_TASKS.iter().zip(&targets.feet) {
+            if let Some(task) = self.ik.task_mut(name)?.as_frame_mut() {
+                task.reference.clone_from(&foot.reference);
+            }
+        }
+        Ok(())
+    }
+}
+
+impl WholeBodyController for IkController {
+    fn tick(
+        &mut self,
+        _t: f64,
+        _q: &[f64],
+        _v: &[f64],
+        targets: &Targets,
+    ) -> Option<FallbackReason> {
+        let model = self.model.clone();
+        let solved = self
+            .set_references(targets)
+            .and_then(|_| {
+                self.state
+                    .update(&model, self.q_des.as_slice(), self.v_des.as_slice())
+                    .map_err(ControlError::from)
+            })
+            .and_then(|_| self.ik.compute(&model, &self.state, self.q_des.as_slice()));
+        let reason = match solved {
+            Ok(out) => {
+                self.q_des.copy_from(&out.q_des);
+                self.v_des.copy_from(&out.v);
+                None
+            }
+            Err(e) => {
+                // Hold the last target at rest.
+                self.v_des.fill(0.0);
+                Some(FallbackReason::Controller(e))
+            }
+        };
+        if let Command::Position { q_ref, v_ref } = &mut self.command {
+            q_ref.copy_from(&self.q_des);
+            v_ref.copy_from(&self.v_des.rows(6, model.nv - 6));
+        }
+        reason
+    }
+
+    fn command(&self) -> &Command {
+        &self.command
+    }
+
+    fn controller_com(&self) -> Vector3<f64> {
+        self.state.data.com
+    }
+}

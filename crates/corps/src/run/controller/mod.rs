@@ -1,0 +1,47 @@
+//! The three whole-body controllers of seed 000 chapter 4 behind one interface:
+//! - A, `ik_position`: hierarchical velocity IK, integrated once, joint position servos;
+//! - B, `tsid_position`: TSID's inverse dynamics, integrated twice, joint position servos;
+//! - C, `tsid_torque`: TSID's inverse dynamics at the measured state, joint torques.
+
+mod ik;
+mod tsid;
+
+pub use ik::IkController;
+pub use tsid::{TsidController, TsidMode, TALOS_SOLES, TALOS_WAIST};
+
+use super::motion::Targets;
+use corps_control::FallbackReason;
+use corps_sim::Command;
+use nalgebra::Vector3;
+use serde::Deserialize;
+
+/// `[controller] kind`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ControllerKind {
+    IkPosition,
+    TsidPosition,
+    TsidTorque,
+}
+
+impl ControllerKind {
+    pub fn label(self) -> &'static str {
+        match self {
+            ControllerKind::IkPosition => "IK (position)",
+            ControllerKind::TsidPosition => "TSID (position)",
+            ControllerKind::TsidTorque => "TSID (torque)",
+        }
+    }
+}
+
+/// A whole-body controller in the loop.
+pub trait WholeBodyController {
+    /// Computes the joint command at `t` (s since the handover) from the measured state and
+    /// the targets. Returns why the safe command was used instead, if it was.
+    fn tick(&mut self, t: f64, q: &[f64], v: &[f64], targets: &Targets) -> Option<FallbackReason>;
+    /// The command of the last tick.
+    fn command(&self) -> &Command;
+    /// The CoM of the state the controller works on (measured in torque mode, its own
+    /// integrated state in position mode), after the last tick.
+    fn controller_com(&self) -> Vector3<f64>;
+}

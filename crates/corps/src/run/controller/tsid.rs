@@ -1,0 +1,287 @@
+//! TSID's inverse dynamics in the loop, in torque mode (controller C: the QP reads the measured
+//! state, its torques go to the joints) or position mode (controller B: the QP reads its own
+//! integrated state, `v += q̈ dt`, `q = q ⊕ v dt`, and (q, v) go to the joint servos; seed 000
+//! §3.8, L4538–L4550).
+
+use super::WholeBodyController;
+use crate::run::gains::TsidGains;
+use crate::run::motion::Targets;
+use anyhow::Result;
+use corps_control::contacts::Contact6d;
+use corps_control::formulation::InverseDynamics;
+use corps_control::tasks::{AngularMomentumTask, ComTask, PostureTask, Se3Reference, Se3Task};
+use corps_control::{FallbackReason, RobotState};
+use corps_model::spatial::Motion;
+use corps_model::{integrate_to, Model};
+use corps_sim::Command;
+use nalgebra::{DVector, Vector3, Vector6};
+use std::sync::Arc;
+
+/// Sole corners of TALOS' box feet in the sole frame (m): ±0.1 along x, ±0.065 along y, as in
+/// the TSID anchor harness.
+pub const TALOS_SOLE_CORNERS: [(f64, f64); 4] =
+    [(0.1, 0.065), (0.1, -0.065), (-0.1, 0.065), (-0.1, -0.065)];
+/// TALOS' sole frames, left then right.
+pub const TALOS_SOLES: [&str; 2] = ["leg_left_sole_fix_joint", "leg_right_sole_fix_joint"];
+/// TALOS' waist (base) frame.
+pub const TALOS_WAIST: &str = "base_link";
+
+/// Torque or position output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TsidMode {
+    Torque,
+    Position,
+}
+
+/// One foot: its contact (a template re-added at each touch-down) and whether it is active.
+struct Foot {
+    frame: usize,
+    contact: Contact6d,
+    in_contact: bool,
+}
+
+pub struct TsidController {
+    model: Arc<Model>,
+    mode: TsidMode,
+    dt: f64,
+    id: InverseDynamics,
+    state: RobotState,
+    feet: [Foot; 2],
+    gains: TsidGains,
+    /// Position mode: the integrated state.
+    q_int: DVector<f64>,
+    v_int: DVector<f64>,
+    step: DVector<f64>,
+    q_prev: DVector<f64>,
+    tau: DVector<f64>,
+    command: Command,
+}
+
+impl TsidController {
+    /// The controller for `model` at the measured state (q, v): CoM, posture (towards
+    /// `q_posture`), angular momentum, optional waist orientation, both soles in contact.
+    pub fn new(
+        model: Arc<Model>,
+        mode: TsidMode,
+        gains: TsidGains,
+        dt: f64,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        q_posture: &DVector<f64>,
+    ) -> Result<Self> {
+        gains.check()?;
+        let nv = model.nv;
+        let na = nv - 6;
+        let mut state = RobotState::new(&model);
+        state.update(&model, q.as_slice(), v.as_slice())?;
+        let mut id = InverseDynamics::new(&model);
+        let g = &gains;
+        let com = ComTask::new(nv, Vector3::repeat(g.com.kp), Vector3::repeat(g.com.kd()));
+        id.com = Some((com, g.com.weight));
+        let kp = g.posture_kp(&model)?;
+        let kd = kp.map(|k| 2.0 * k.sqrt());
+        id.posture = Some((
+            PostureTask::new(&model, kp, kd, q_posture.clone()),
+            g.posture.weight,
+        ));
+        id.angular_momentum = Some((
+            AngularMomentumTask::new(nv, Vector3::repeat(g.angular_momentum.kp)),
+            g.angular_momentum.weight,
+        ));
+        if let Some(w) = &g.waist {
+            let frame = model.frame_id(TALOS_WAIST)?;
+            let mut task = Se3Task::new(
+                nv,
+                frame,
+                Vector6::repeat(w.kp),
+                Vector6::repeat(w.kd()),
+                at_rest(state.frame_placement(&model, frame)?),
+            );
+            task.mask = Vector6::new(0.0, 0.0, 0.0, 1.0, 1.0, 1.0);
+            id.frames.push((task, w.weight));
+        }
+        let c = &g.contacts;
+        let contact_kd = c.kd.unwrap_or(2.0 * c.kp.sqrt());
+        let mut feet = Vec::with_capacity(2);
+        for name in TALOS_SOLES {
+            let frame = model.frame_id(name)?;
+            let mut contact = Contact6d::new(
+                &model,
+                name,
+                frame,
+                TALOS_SOLE_CORNERS.map(|(x, y)| Vector3::new(x, y, 0.0)),
+                Vector3::z(),
+                c.mu,
+                (c.fmin, c.fmax),
+                Vector6::repeat(c.kp),
+                Vector6::repeat(contact_kd),
+                at_rest(state.frame_placement(&model, frame)?),
+            );
+            contact.force_reg_weight = c.force_regularization;
+            id.contacts.push(contact.clone());
+            feet.push(Foot {
+                frame,
+                contact,
+                in_contact: true,
+            });
+        }
+        if g.actuation_bounds {
+            let limit = model.effort_limit.rows(6, na).into_owned();
+            id.actuation = Some((-&limit, limit));
+        }
+        let command = match mode {
+            TsidMode::Torque => Command::Torque(DVector::zeros(na)),
+            TsidMode::Position => Command::Position {
+                q_ref: q.clone(),
+                v_ref: v.rows(6, na).into_owned(),
+            },
+        };
+        let [left, right]: [Foot; 2] = feet
+            .try_into()
+            .unwrap_or_else(|_| unreachable!("two soles"));
+        Ok(Self {
+            mode,
+            dt,
+            id,
+            state,
+            feet: [left, right],
+            q_int: q.clone(),
+            v_int: v.clone(),
+            step: DVector::zeros(nv),
+            q_prev: q.clone(),
+            tau: DVector::zeros(na),
+            command,
+            gains,
+            model,
+        })
+    }
+
+    /// Adds or removes foot contacts and swing-foot tasks where the targets changed.
+    fn switch_contacts(&mut self, t: f64, targets: &Targets) -> Result<(), FallbackReason> {
+        let transition = self.gains.contacts.transition;
+        let nv = self.model.nv;
+        for (k, foot) in self.feet.iter_mut().enumerate() {
+            let target = &targets.feet[k];
+            if target.in_contact == foot.in_contact {
+                continue;
+            }
+            let name = foot.contact.name.clone();
+            if target.in_contact {
+                // Touch-down: drop the swing task, add the contact where the foot is aimed.
+                self.id.frames.retain(|(task, _)| task.frame != foot.frame);
+                let mut contact = foot.contact.clone();
+                contact.motion.reference = at_rest(target.reference.placement);
+                self.id.add_contact(contact, t, transition);
+            } else {
+                self.id
+                    .remove_contact(&name, t, transition)
+                    .map_err(FallbackReason::Controller)?;
+                let g = &self.gains.feet;
+                let task = Se3Task::new(
+                    nv,
+                    foot.frame,
+                    Vector6::repeat(g.kp),
+                    Vector6::repeat(g.kd()),
+                    target.reference.clone(),
+                );
+                self.id.frames.push((task, g.weight));
+            }
+            foot.in_contact = target.in_contact;
+        }
+        Ok(())
+    }
+
+    /// Copies the targets into the tasks.
+    fn set_references(&mut self, targets: &Targets) {
+        if let Some((com, _)) = &mut self.id.com {
+            com.reference.pos.copy_from(&targets.com.pos);
+            com.reference.vel.copy_from(&targets.com.vel);
+            com.reference.acc.copy_from(&targets.com.acc);
+        }
+        for (k, foot) in self.feet.iter().enumerate() {
+            if foot.in_contact {
+                continue;
+            }
+            if let Some((task, _)) = self
+                .id
+                .frames
+                .iter_mut()
+                .find(|(t, _)| t.frame == foot.frame)
+            {
+                task.reference.clone_from(&targets.feet[k].reference);
+            }
+        }
+    }
+}
+
+fn at_rest(placement: corps_model::spatial::Se3) -> Se3Reference {
+    Se3Reference {
+        placement,
+        velocity: Motion::zero(),
+        acceleration: Motion::zero(),
+    }
+}
+
+impl WholeBodyController for TsidController {
+    fn tick(&mut self, t: f64, q: &[f64], v: &[f64], targets: &Targets) -> Option<FallbackReason> {
+        if let Err(reason) = self.switch_contacts(t, targets) {
+            return Some(reason);
+        }
+        self.set_references(targets);
+        let model = self.model.clone();
+        let damping = self.gains.safe_damping;
+        match self.mode {
+            TsidMode::Torque => {
+                let reason = self
+                    .id
+                    .tick(&model, &mut self.state, t, q, v, damping, &mut self.tau);
+                if let Command::Torque(tau) = &mut self.command {
+                    tau.copy_from(&self.tau);
+                }
+                reason
+            }
+            TsidMode::Position => {
+                let reason = self.id.tick(
+                    &model,
+                    &mut self.state,
+                    t,
+                    self.q_int.as_slice(),
+                    self.v_int.as_slice(),
+                    damping,
+                    &mut self.tau,
+                );
+                if reason.is_some() {
+                    // Hold the last target at rest.
+                    self.v_int.fill(0.0);
+                } else {
+                    let dt = self.dt;
+                    self.v_int.axpy(dt, &self.id.output.dv, 1.0);
+                    self.step.copy_from(&self.v_int);
+                    self.step.scale_mut(dt);
+                    self.q_prev.copy_from(&self.q_int);
+                    if let Err(e) = integrate_to(
+                        &model,
+                        self.q_prev.as_slice(),
+                        self.step.as_slice(),
+                        self.q_int.as_mut_slice(),
+                    ) {
+                        return Some(FallbackReason::BadState(e.to_string()));
+                    }
+                }
+                if let Command::Position { q_ref, v_ref } = &mut self.command {
+                    q_ref.copy_from(&self.q_int);
+                    v_ref.copy_from(&self.v_int.rows(6, model.nv - 6));
+                }
+                reason
+            }
+        }
+    }
+
+    fn command(&self) -> &Command {
+        &self.command
+    }
+
+    fn controller_com(&self) -> Vector3<f64> {
+        self.state.data.com
+    }
+}

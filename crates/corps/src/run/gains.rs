@@ -1,0 +1,273 @@
+//! Controller gains and weights, read from TOML files (`config/talos/*.toml`, embedded as the
+//! defaults so the command works from any directory). Unknown keys are errors; every value is
+//! checked before a run starts.
+
+use anyhow::{anyhow, bail, Context, Result};
+use corps_model::Model;
+use nalgebra::DVector;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The built-in gains of each controller kind.
+pub const TSID_TORQUE: &str = include_str!("../../../../config/talos/tsid_torque.toml");
+pub const TSID_POSITION: &str = include_str!("../../../../config/talos/tsid_position.toml");
+pub const IK_POSITION: &str = include_str!("../../../../config/talos/ik_position.toml");
+
+/// A PD-controlled task in the cost: `Kp`, `Kd` (absent: 2√Kp, critical damping) and weight.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TaskGains {
+    pub kp: f64,
+    pub kd: Option<f64>,
+    pub weight: f64,
+}
+
+impl TaskGains {
+    pub fn kd(&self) -> f64 {
+        self.kd.unwrap_or(2.0 * self.kp.sqrt())
+    }
+}
+
+/// The posture task: one Kp for every joint, replaced per joint group by `groups`
+/// (joint-name prefix → one Kp per joint of that prefix, in model order).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PostureGains {
+    pub kp: f64,
+    #[serde(default)]
+    pub groups: BTreeMap<String, Vec<f64>>,
+    pub weight: f64,
+}
+
+/// The angular-momentum task (P on the momentum, reference 0).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MomentumGains {
+    pub kp: f64,
+    pub weight: f64,
+}
+
+/// Foot contacts: motion-constraint PD, friction, normal-force bounds, force regularization
+/// weight and the duration of the force ramp when a contact is added or removed.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ContactGains {
+    pub kp: f64,
+    pub kd: Option<f64>,
+    pub mu: f64,
+    pub fmin: f64,
+    pub fmax: f64,
+    pub force_regularization: f64,
+    pub transition: f64,
+}
+
+/// The inverse-dynamics controllers (torque and position mode).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TsidGains {
+    pub com: TaskGains,
+    pub posture: PostureGains,
+    pub angular_momentum: MomentumGains,
+    /// Waist (base) orientation task; absent: none.
+    pub waist: Option<TaskGains>,
+    pub contacts: ContactGains,
+    /// Swing-foot motion task.
+    pub feet: TaskGains,
+    /// Joint torque limits of the URDF as hard constraints.
+    pub actuation_bounds: bool,
+    /// Joint damping of the safe command (N·m·s/rad).
+    pub safe_damping: f64,
+}
+
+/// The inverse-kinematics controller: task gains (1/s) of seed 000 Table 4.1's stack.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct IkGainsFile {
+    pub contacts: f64,
+    pub com_height: f64,
+    pub com: f64,
+    pub waist: f64,
+    pub posture: f64,
+}
+
+/// Reads gains of type `T` from `path`, or from the built-in `default` text when None, with
+/// the values of `overrides` (a scenario's `[controller.set]` table, e.g.
+/// `posture.weight = 1e-3`) replacing the file's.
+pub fn load<T: serde::de::DeserializeOwned>(
+    path: Option<&Path>,
+    default: &str,
+    overrides: &toml::Table,
+) -> Result<T> {
+    let (mut text, mut name) = match path {
+        Some(p) => (
+            std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?,
+            p.display().to_string(),
+        ),
+        None => (default.to_string(), "built-in gains".to_string()),
+    };
+    if !overrides.is_empty() {
+        let mut table: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| anyhow!("{name}: {}", e.message()))?;
+        merge(&mut table, overrides);
+        text = toml::to_string(&table).context("merging controller.set")?;
+        name = format!("{name} with controller.set");
+    }
+    let de = toml::Deserializer::parse(&text).map_err(|e| anyhow!("{name}: {}", e.message()))?;
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        anyhow!("{name}: {path}: {}", e.inner().message().trim())
+    })
+}
+
+/// Replaces `base`'s values by `over`'s, descending into tables present in both.
+fn merge(base: &mut toml::Table, over: &toml::Table) {
+    for (key, value) in over {
+        match (base.get_mut(key), value) {
+            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge(b, o),
+            _ => {
+                base.insert(key.clone(), value.clone());
+            }
+        }
+    }
+}
+
+fn check_positive(what: &str, x: f64) -> Result<()> {
+    if !(x >= 0.0 && x.is_finite()) {
+        bail!("{what} = {x}: must be finite and not negative");
+    }
+    Ok(())
+}
+
+impl TsidGains {
+    /// Checks every value (finite, not negative, fmin ≤ fmax, μ > 0).
+    pub fn check(&self) -> Result<()> {
+        for (name, g) in [("com", &self.com), ("feet", &self.feet)]
+            .into_iter()
+            .chain(self.waist.as_ref().map(|w| ("waist", w)))
+        {
+            check_positive(&format!("{name}.kp"), g.kp)?;
+            check_positive(&format!("{name}.kd"), g.kd())?;
+            check_positive(&format!("{name}.weight"), g.weight)?;
+        }
+        check_positive("posture.kp", self.posture.kp)?;
+        check_positive("posture.weight", self.posture.weight)?;
+        for (group, values) in &self.posture.groups {
+            for x in values {
+                check_positive(&format!("posture.groups.{group}"), *x)?;
+            }
+        }
+        check_positive("angular_momentum.kp", self.angular_momentum.kp)?;
+        check_positive("angular_momentum.weight", self.angular_momentum.weight)?;
+        let c = &self.contacts;
+        check_positive("contacts.kp", c.kp)?;
+        check_positive("contacts.kd", c.kd.unwrap_or(0.0))?;
+        check_positive("contacts.fmin", c.fmin)?;
+        check_positive("contacts.force_regularization", c.force_regularization)?;
+        check_positive("contacts.transition", c.transition)?;
+        check_positive("safe_damping", self.safe_damping)?;
+        if !(c.mu > 0.0 && c.mu.is_finite()) {
+            bail!("contacts.mu = {}: must be positive", c.mu);
+        }
+        if c.fmax.is_nan() || c.fmax < c.fmin {
+            bail!("contacts: fmax {} is below fmin {}", c.fmax, c.fmin);
+        }
+        Ok(())
+    }
+
+    /// Posture Kp per actuated joint (na entries) for `model`.
+    pub fn posture_kp(&self, model: &Model) -> Result<DVector<f64>> {
+        let first = if model.has_free_flyer() { 6 } else { 0 };
+        // (velocity index − first, name) of every joint but the free-flyer, in velocity order.
+        let actuated: Vec<(usize, &str)> = model
+            .joints
+            .iter()
+            .filter(|j| !matches!(j.kind, corps_model::JointKind::FreeFlyer))
+            .map(|j| (j.idx_v - first, j.name.as_str()))
+            .collect();
+        let mut kp = DVector::repeat(model.nv - first, self.posture.kp);
+        for (prefix, values) in &self.posture.groups {
+            let idx: Vec<usize> = actuated
+                .iter()
+                .filter(|(_, n)| n.starts_with(prefix.as_str()))
+                .map(|(i, _)| *i)
+                .collect();
+            if idx.len() != values.len() {
+                bail!(
+                    "posture.groups.{prefix}: {} values for the {} joints named '{prefix}…'",
+                    values.len(),
+                    idx.len()
+                );
+            }
+            for (i, x) in idx.into_iter().zip(values) {
+                kp[i] = *x;
+            }
+        }
+        Ok(kp)
+    }
+}
+
+impl IkGainsFile {
+    pub fn check(&self) -> Result<()> {
+        for (name, x) in [
+            ("contacts", self.contacts),
+            ("com_height", self.com_height),
+            ("com", self.com),
+            ("waist", self.waist),
+            ("posture", self.posture),
+        ] {
+            check_positive(name, x)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_built_in_gains_parse_and_check() {
+        let t: TsidGains = load(None, TSID_TORQUE, &toml::Table::new()).unwrap();
+        t.check().unwrap();
+        assert_eq!(t.com.kp, 50.0);
+        let p: TsidGains = load(None, TSID_POSITION, &toml::Table::new()).unwrap();
+        p.check().unwrap();
+        assert_eq!(
+            p.posture.groups["leg_left_"],
+            vec![10.0, 5.0, 5.0, 1.0, 10.0, 10.0]
+        );
+        let ik: IkGainsFile = load(None, IK_POSITION, &toml::Table::new()).unwrap();
+        ik.check().unwrap();
+        assert_eq!(ik.waist, 300.0);
+    }
+
+    #[test]
+    fn unknown_keys_and_bad_values_are_errors() {
+        let bad = TSID_TORQUE.replace("[com]\n", "[com]\nkpp = 1.0\n");
+        let e = load::<TsidGains>(None, &bad, &toml::Table::new())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("com") && e.contains("kpp"), "{e}");
+        let mut t: TsidGains = load(None, TSID_TORQUE, &toml::Table::new()).unwrap();
+        t.contacts.fmax = 0.5;
+        assert!(t.check().unwrap_err().to_string().contains("fmax"));
+        t.contacts.fmax = 1000.0;
+        t.com.kp = f64::NAN;
+        assert!(t.check().unwrap_err().to_string().contains("com.kp"));
+    }
+
+    #[test]
+    fn overrides_replace_single_values_and_are_checked_like_the_file() {
+        let set: toml::Table = "posture.weight = 1e-3\ncom.kp = 20.0".parse().unwrap();
+        let t: TsidGains = load(None, TSID_TORQUE, &set).unwrap();
+        assert_eq!(
+            (t.posture.weight, t.com.kp, t.com.kd),
+            (1e-3, 20.0, Some(5.0))
+        );
+        let set: toml::Table = "posture.wieght = 1.0".parse().unwrap();
+        let e = load::<TsidGains>(None, TSID_TORQUE, &set).unwrap_err();
+        assert!(e.to_string().contains("wieght"), "{e}");
+    }
+}

@@ -1,0 +1,204 @@
+//! The metrics of a controller run (seed 000 §4.4.3): CoM, feet and ZMP tracking errors as
+//! average / standard deviation / peak per axis, contact forces, base drift and foot slip,
+//! mechanical work (Eq 4.16's E_m and E_m+), and the controller's time per tick.
+
+use serde::Serialize;
+use std::fmt;
+
+/// Running average / standard deviation / peak of |e|.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Stat {
+    #[serde(skip)]
+    n: usize,
+    #[serde(skip)]
+    sum: f64,
+    #[serde(skip)]
+    sum_sq: f64,
+    pub avg: f64,
+    pub std: f64,
+    pub peak: f64,
+}
+
+impl Stat {
+    pub fn push(&mut self, e: f64) {
+        let a = e.abs();
+        self.n += 1;
+        self.sum += a;
+        self.sum_sq += a * a;
+        self.peak = self.peak.max(a);
+        let n = self.n as f64;
+        self.avg = self.sum / n;
+        self.std = (self.sum_sq / n - self.avg * self.avg).max(0.0).sqrt();
+    }
+}
+
+/// Per-axis statistics.
+pub type Axes<const N: usize> = [Stat; N];
+
+/// Time per control tick (µs).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct TickTime {
+    pub avg_us: f64,
+    pub p99_us: f64,
+    pub peak_us: f64,
+}
+
+impl TickTime {
+    /// From the per-tick durations (µs); sorts them.
+    pub fn from_samples(samples: &mut [f64]) -> Self {
+        if samples.is_empty() {
+            return Self::default();
+        }
+        samples.sort_by(f64::total_cmp);
+        let n = samples.len();
+        let p99 = samples[((n as f64 * 0.99).ceil() as usize).clamp(1, n) - 1];
+        Self {
+            avg_us: samples.iter().sum::<f64>() / n as f64,
+            p99_us: p99,
+            peak_us: samples[n - 1],
+        }
+    }
+}
+
+/// One foot's figures.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct FootMetrics {
+    pub label: String,
+    /// Position tracking error of the sole (m), x y z.
+    pub error: Axes<3>,
+    /// Largest horizontal displacement while in contact, from where the contact began (m).
+    pub slip: f64,
+    /// Peak and mean vertical contact force (N).
+    pub force_peak: f64,
+    pub force_mean: f64,
+}
+
+/// Everything measured during a run.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Metrics {
+    pub scenario: String,
+    pub controller: String,
+    /// Controlled time (s).
+    pub duration: f64,
+    /// CoM tracking error (m), x y z.
+    pub com_error: Axes<3>,
+    /// ZMP (from the simulated contact forces) against the reference ZMP (m), x y.
+    pub zmp_error: Axes<2>,
+    pub feet: Vec<FootMetrics>,
+    /// Base displacement at the end and its peak over the run (m, 3D).
+    pub base_drift: f64,
+    pub base_drift_peak: f64,
+    /// Lowest base height (m).
+    pub min_base_height: f64,
+    /// Peak force on bodies other than the feet (N): a fall or a knee on the ground.
+    pub other_contact_peak: f64,
+    /// Mechanical work Σ|τ·q̇| and its positive part (J), seed 000 Eq 4.16.
+    pub work: f64,
+    pub positive_work: f64,
+    /// Controller time per tick.
+    pub tick_time: TickTime,
+    /// Ticks that used the safe command, and the first reason.
+    pub fallbacks: usize,
+    pub first_fallback: Option<String>,
+}
+
+fn row(f: &mut fmt::Formatter<'_>, name: &str, axes: &[(&str, &Stat)]) -> fmt::Result {
+    for (axis, s) in axes {
+        writeln!(
+            f,
+            "  {name:<22} {axis}  {:>9.2} {:>9.2} {:>9.2}",
+            s.avg * 1e3,
+            s.std * 1e3,
+            s.peak * 1e3
+        )?;
+    }
+    Ok(())
+}
+
+impl fmt::Display for Metrics {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(
+            f,
+            "{} — {} — {:.2} s controlled",
+            self.scenario, self.controller, self.duration
+        )?;
+        writeln!(f, "  tracking error (mm)        avg       std      peak")?;
+        let c = &self.com_error;
+        row(f, "CoM", &[("x", &c[0]), ("y", &c[1]), ("z", &c[2])])?;
+        let z = &self.zmp_error;
+        row(f, "ZMP", &[("x", &z[0]), ("y", &z[1])])?;
+        for foot in &self.feet {
+            let e = &foot.error;
+            let name = format!("{} foot", foot.label);
+            row(f, &name, &[("x", &e[0]), ("y", &e[1]), ("z", &e[2])])?;
+        }
+        for foot in &self.feet {
+            writeln!(
+                f,
+                "  {} foot: slip {:.2} mm, vertical force mean {:.0} N, peak {:.0} N",
+                foot.label,
+                foot.slip * 1e3,
+                foot.force_mean,
+                foot.force_peak
+            )?;
+        }
+        writeln!(
+            f,
+            "  base: drift {:.2} mm at the end, {:.2} mm peak; lowest height {:.3} m",
+            self.base_drift * 1e3,
+            self.base_drift_peak * 1e3,
+            self.min_base_height
+        )?;
+        if self.other_contact_peak > 0.0 {
+            writeln!(
+                f,
+                "  contact on other bodies: peak {:.0} N",
+                self.other_contact_peak
+            )?;
+        }
+        writeln!(
+            f,
+            "  mechanical work {:.1} J (positive {:.1} J)",
+            self.work, self.positive_work
+        )?;
+        let t = &self.tick_time;
+        writeln!(
+            f,
+            "  controller time per tick: avg {:.1} µs, p99 {:.1} µs, peak {:.1} µs",
+            t.avg_us, t.p99_us, t.peak_us
+        )?;
+        match &self.first_fallback {
+            None => writeln!(f, "  safe command: never used"),
+            Some(r) => writeln!(
+                f,
+                "  safe command used on {} ticks; first: {r}",
+                self.fallbacks
+            ),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stat_gives_mean_std_and_peak_of_the_magnitude() {
+        let mut s = Stat::default();
+        for e in [1.0, -3.0, 2.0] {
+            s.push(e);
+        }
+        assert!((s.avg - 2.0).abs() < 1e-12);
+        assert!((s.std - (2.0f64 / 3.0).sqrt()).abs() < 1e-12);
+        assert_eq!(s.peak, 3.0);
+    }
+
+    #[test]
+    fn tick_time_percentile_is_an_order_statistic() {
+        let mut v: Vec<f64> = (1..=200).rev().map(f64::from).collect();
+        let t = TickTime::from_samples(&mut v);
+        assert_eq!(t.p99_us, 198.0);
+        assert_eq!(t.peak_us, 200.0);
+        assert!((t.avg_us - 100.5).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,528 @@
+//! `corps run SCENARIO.toml`: a whole-body controller drives the simulated robot through a
+//! reference motion. The robot first settles under the joint PD hold (`[controller] settle`),
+//! then the controller takes over; pushes count from the handover. After the run the metrics
+//! are printed and written (`metrics.txt`, `metrics.json`) with the log (`log.csv`) and the
+//! plots.
+//!
+//! The scenario file is `corps sim`'s (robot, terrain, initial state, simulator settings,
+//! pushes, output) plus `[controller]` and `[motion]`:
+//!
+//! ```toml
+//! duration = 10.0                   # controlled time (s)
+//! [controller]
+//! kind = "tsid_torque"              # ik_position | tsid_position | tsid_torque
+//! gains = "../config/talos/tsid_torque.toml"   # optional: the built-in file of the kind
+//! [motion]
+//! kind = "com_sinusoid"             # stand | com_sinusoid | squat | one_foot
+//! amplitude = [0.0, 0.03, 0.0]
+//! frequency = 0.5
+//! ```
+
+pub mod controller;
+pub mod gains;
+mod metrics;
+pub mod motion;
+mod plots;
+
+pub use controller::{ControllerKind, WholeBodyController};
+pub use metrics::{FootMetrics, Metrics, Stat, TickTime};
+pub use motion::{MotionSection, Side, Targets};
+
+use crate::sim_cmd::scenario::Scenario;
+use crate::sim_cmd::setup::{self, Setup};
+use anyhow::{anyhow, bail, Context, Result};
+use clap::Args;
+use controller::{IkController, TsidController, TsidMode};
+use corps_model::{center_of_mass, frame_placement, Data, Model};
+use corps_sim::Simulator;
+use motion::MotionPlan;
+use nalgebra::{DVector, Vector3};
+use serde::Deserialize;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Standard gravity used for the LIPM reference ZMP (m/s²).
+const GRAVITY: f64 = 9.81;
+/// Vertical force (N) below which the ZMP is not defined (the robot is in the air).
+const ZMP_MIN_FZ: f64 = 10.0;
+
+/// `[controller]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ControllerSection {
+    pub kind: ControllerKind,
+    /// Gains file, relative to the scenario file (absent: the built-in file of the kind,
+    /// `config/talos/<kind>.toml`).
+    pub gains: Option<PathBuf>,
+    /// Time under the joint PD hold before the controller takes over (s).
+    #[serde(default = "half_second")]
+    pub settle: f64,
+    /// Values replacing the gains file's, e.g. `posture.weight = 1e-3`.
+    #[serde(default)]
+    pub set: toml::Table,
+}
+
+fn half_second() -> f64 {
+    0.5
+}
+
+impl ControllerSection {
+    pub fn check(&self) -> Result<(), String> {
+        if !(self.settle >= 0.0 && self.settle.is_finite()) {
+            return Err(format!(
+                "controller.settle: must be a finite number ≥ 0, got {}",
+                self.settle
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Arguments of `corps run`.
+#[derive(Args)]
+pub struct RunArgs {
+    /// Scenario file (TOML) with a [controller] section; see `scenarios/`.
+    scenario: PathBuf,
+    /// Output directory (default: `[output] directory` of the scenario, else `out/<name>`).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Control this many seconds instead of the scenario's `duration`.
+    #[arg(long, value_name = "SECONDS")]
+    duration: Option<f64>,
+}
+
+/// Runs `corps run`.
+pub fn run(args: RunArgs) -> Result<()> {
+    let report = run_file(&args.scenario, args.output.as_deref(), args.duration, true)?;
+    let mut out = std::io::stdout().lock();
+    let written = write!(out, "{}", report.metrics).and_then(|_| {
+        writeln!(out, "  wrote {}", report.dir.display())?;
+        for p in &report.files {
+            writeln!(out, "    {}", p.display())?;
+        }
+        Ok(())
+    });
+    match written {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e).context("printing"),
+        _ => Ok(()),
+    }
+}
+
+/// What a run produced.
+pub struct RunReport {
+    pub metrics: Metrics,
+    pub dir: PathBuf,
+    pub files: Vec<PathBuf>,
+}
+
+/// Reads, runs and records the scenario at `path`. `output` replaces the output directory,
+/// `duration` the controlled time; `progress` shows a progress bar on a terminal.
+pub fn run_file(
+    path: &Path,
+    output: Option<&Path>,
+    duration: Option<f64>,
+    progress: bool,
+) -> Result<RunReport> {
+    let shown = path.display();
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            bail!("{shown}: no such scenario file")
+        }
+        Err(e) => bail!("{shown}: cannot read the scenario file: {e}"),
+    };
+    let mut scenario = Scenario::parse(&text).map_err(|e| anyhow!("{shown}: {e}"))?;
+    if let Some(d) = duration {
+        scenario = scenario
+            .with_duration(d)
+            .map_err(|e| anyhow!("{shown}: {e}"))?;
+    }
+    let name = scenario.run_name(path);
+    let base_dir = path.parent().unwrap_or(Path::new("."));
+    let dir = output
+        .map(Path::to_path_buf)
+        .or_else(|| scenario.output.directory.clone())
+        .unwrap_or_else(|| PathBuf::from("out").join(&name));
+    run_scenario(&scenario, &name, base_dir, &dir, progress).map_err(|e| anyhow!("{shown}: {e:#}"))
+}
+
+/// Per-tick series kept for the plots and the log.
+#[derive(Default)]
+struct Series {
+    t: Vec<f64>,
+    com: [Vec<f64>; 3],
+    com_ref: [Vec<f64>; 3],
+    zmp: [Vec<f64>; 2],
+    zmp_ref: [Vec<f64>; 2],
+    foot_z: [Vec<f64>; 2],
+    foot_z_ref: [Vec<f64>; 2],
+    foot_fz: [Vec<f64>; 2],
+    base: [Vec<f64>; 3],
+    tick_us: Vec<f64>,
+}
+
+/// Runs a parsed scenario; relative paths resolve from `base_dir`; writes into `dir`.
+pub fn run_scenario(
+    scenario: &Scenario,
+    name: &str,
+    base_dir: &Path,
+    dir: &Path,
+    progress: bool,
+) -> Result<RunReport> {
+    let Some(section) = &scenario.controller else {
+        bail!("no [controller] section: this is a `corps sim` scenario");
+    };
+    let gains_path = section.gains.as_ref().map(|p| base_dir.join(p));
+    let Setup {
+        model,
+        mut sim,
+        command: hold,
+        q0,
+        ..
+    } = setup::build(scenario, base_dir)?;
+    if model.nv < 6 || !model.has_free_flyer() {
+        bail!("corps run needs a free-floating robot");
+    }
+    let dt = scenario.sim.control_dt;
+    let settle_ticks = (section.settle / dt).round() as usize;
+    for _ in 0..settle_ticks {
+        sim.step(&hold)?;
+    }
+    // Pushes count from the handover.
+    for push in &scenario.pushes {
+        let mut p = push.clone();
+        p.start += sim.time();
+        sim.add_push(p)?;
+    }
+    let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
+    let mut ctrl: Box<dyn WholeBodyController> = match section.kind {
+        ControllerKind::TsidTorque | ControllerKind::TsidPosition => {
+            let (mode, default) = if section.kind == ControllerKind::TsidTorque {
+                (TsidMode::Torque, gains::TSID_TORQUE)
+            } else {
+                (TsidMode::Position, gains::TSID_POSITION)
+            };
+            let g = gains::load(gains_path.as_deref(), default, &section.set)
+                .context("controller.gains")?;
+            Box::new(
+                TsidController::new(model.clone(), mode, g, dt, &q, &v, &q0)
+                    .context("controller")?,
+            )
+        }
+        ControllerKind::IkPosition => {
+            let g = gains::load(gains_path.as_deref(), gains::IK_POSITION, &section.set)
+                .context("controller.gains")?;
+            Box::new(IkController::new(model.clone(), g, dt, &q, &q0).context("controller")?)
+        }
+    };
+
+    let soles = [
+        model.frame_id(controller::TALOS_SOLES[0])?,
+        model.frame_id(controller::TALOS_SOLES[1])?,
+    ];
+    let foot_joints = soles.map(|f| model.frames[f].parent_joint.unwrap_or(usize::MAX));
+    let mut data = Data::new(&model);
+    let zeros = DVector::zeros(model.nv);
+    let com0 = center_of_mass(
+        &model,
+        &mut data,
+        q.as_slice(),
+        v.as_slice(),
+        zeros.as_slice(),
+    )?;
+    let feet0 = [
+        frame_placement(&model, sim.data(), soles[0])?,
+        frame_placement(&model, sim.data(), soles[1])?,
+    ];
+    let plan = MotionPlan::new(scenario.motion.clone(), com0, feet0);
+    let mut targets = plan.initial_targets();
+
+    let ticks = (scenario.duration / dt).round() as usize;
+    let mut m = Metrics {
+        scenario: name.to_string(),
+        controller: section.kind.label().to_string(),
+        duration: ticks as f64 * dt,
+        feet: ["left", "right"]
+            .map(|label| FootMetrics {
+                label: label.into(),
+                ..Default::default()
+            })
+            .to_vec(),
+        min_base_height: f64::INFINITY,
+        ..Default::default()
+    };
+    let base0 = Vector3::new(q[0], q[1], q[2]);
+    let mut contact_start: [Option<Vector3<f64>>; 2] = [None, None];
+    let mut series = Series::default();
+    let mut tick_us = Vec::with_capacity(ticks);
+    let bar = if progress {
+        crate::sim_cmd::progress_bar(ticks)
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    for tick in 0..ticks {
+        let t = tick as f64 * dt;
+        plan.sample(t, &mut targets);
+        let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
+        let start = Instant::now();
+        let reason = ctrl.tick(t, q.as_slice(), v.as_slice(), &targets);
+        let us = start.elapsed().as_secs_f64() * 1e6;
+        tick_us.push(us);
+        if let Some(r) = reason {
+            m.fallbacks += 1;
+            m.first_fallback
+                .get_or_insert_with(|| format!("t = {t:.3} s: {r}"));
+        }
+        // Measure the state the controller saw, against this tick's targets.
+        let com = center_of_mass(
+            &model,
+            &mut data,
+            q.as_slice(),
+            v.as_slice(),
+            zeros.as_slice(),
+        )?;
+        let feet = [
+            frame_placement(&model, sim.data(), soles[0])?.translation,
+            frame_placement(&model, sim.data(), soles[1])?.translation,
+        ];
+        let contact = measure_contacts(&sim, &foot_joints);
+        record(
+            &mut m,
+            &mut series,
+            Sample {
+                t,
+                base: Vector3::new(q[0], q[1], q[2]),
+                base0,
+                com,
+                feet,
+                targets: &targets,
+                contact: &contact,
+                tick_us: us,
+            },
+            &mut contact_start,
+        );
+        let (w, w_pos) = work(&sim, &model, dt);
+        m.work += w;
+        m.positive_work += w_pos;
+        sim.step(ctrl.command())?;
+        if tick % 50 == 0 {
+            bar.set_position(tick as u64);
+            bar.set_message(format!("t = {t:.2} s"));
+        }
+    }
+    bar.finish_and_clear();
+    m.tick_time = TickTime::from_samples(&mut tick_us);
+    for (k, foot) in m.feet.iter_mut().enumerate() {
+        let n = series.foot_fz[k].len().max(1) as f64;
+        foot.force_mean = series.foot_fz[k].iter().sum::<f64>() / n;
+    }
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("creating the output directory {}", dir.display()))?;
+    let mut files = vec![
+        write_log(dir, &series, scenario.output.log_every)?,
+        write_atomic(dir, "metrics.txt", m.to_string().as_bytes())?,
+        write_atomic(
+            dir,
+            "metrics.json",
+            serde_json::to_string_pretty(&m)?.as_bytes(),
+        )?,
+    ];
+    if scenario.output.plots {
+        files.extend(plots::write(dir, &series, &m.scenario)?);
+    }
+    Ok(RunReport {
+        metrics: m,
+        dir: dir.to_path_buf(),
+        files,
+    })
+}
+
+/// Contact forces of one tick.
+struct ContactSample {
+    /// ZMP on the contact plane (world x, y), None when the robot is in the air.
+    zmp: Option<[f64; 2]>,
+    /// Height of that plane (force-weighted mean height of the loaded points).
+    plane_z: f64,
+    /// Vertical force on each foot (N).
+    foot_fz: [f64; 2],
+    /// Total force on other bodies (N).
+    other: f64,
+}
+
+/// ZMP and forces from the simulator's contact points (world frame):
+/// `p = Σ (x_i f_zi − (z_i − z_p) f_xi) / Σ f_zi` (and y alike) on the plane z_p.
+fn measure_contacts(sim: &Simulator, foot_joints: &[usize; 2]) -> ContactSample {
+    let c = sim.contact();
+    let points = sim.contact_points();
+    let (mut fz, mut zf) = (0.0, 0.0);
+    let mut foot_fz = [0.0; 2];
+    let mut other = 0.0;
+    for ((f, p), cp) in c.point_forces.iter().zip(&c.point_positions).zip(points) {
+        fz += f.z;
+        zf += p.z * f.z;
+        match foot_joints.iter().position(|j| *j == cp.joint) {
+            Some(k) => foot_fz[k] += f.z,
+            None => other += f.norm(),
+        }
+    }
+    if fz < ZMP_MIN_FZ {
+        return ContactSample {
+            zmp: None,
+            plane_z: 0.0,
+            foot_fz,
+            other,
+        };
+    }
+    let plane_z = zf / fz;
+    let (mut px, mut py) = (0.0, 0.0);
+    for (f, p) in c.point_forces.iter().zip(&c.point_positions) {
+        px += p.x * f.z - (p.z - plane_z) * f.x;
+        py += p.y * f.z - (p.z - plane_z) * f.y;
+    }
+    ContactSample {
+        zmp: Some([px / fz, py / fz]),
+        plane_z,
+        foot_fz,
+        other,
+    }
+}
+
+/// Mechanical work of the joints over one step: (Σ|τ q̇| dt, Σ max(τ q̇, 0) dt).
+fn work(sim: &Simulator, model: &Model, dt: f64) -> (f64, f64) {
+    let tau = sim.applied_torques();
+    let v = sim.v();
+    let first = model.nv - tau.len();
+    (0..tau.len()).fold((0.0, 0.0), |(a, p), k| {
+        let power = tau[k] * v[first + k];
+        (a + power.abs() * dt, p + power.max(0.0) * dt)
+    })
+}
+
+struct Sample<'a> {
+    t: f64,
+    base: Vector3<f64>,
+    base0: Vector3<f64>,
+    com: Vector3<f64>,
+    feet: [Vector3<f64>; 2],
+    targets: &'a Targets,
+    contact: &'a ContactSample,
+    tick_us: f64,
+}
+
+fn record(
+    m: &mut Metrics,
+    series: &mut Series,
+    s: Sample,
+    contact_start: &mut [Option<Vector3<f64>>; 2],
+) {
+    let c_ref = &s.targets.com;
+    for k in 0..3 {
+        m.com_error[k].push(s.com[k] - c_ref.pos[k]);
+        series.com[k].push(s.com[k]);
+        series.com_ref[k].push(c_ref.pos[k]);
+        series.base[k].push(s.base[k]);
+    }
+    // Reference ZMP of the CoM reference on the measured contact plane (LIPM, seed 000 Eq 2.22).
+    let h = c_ref.pos[2] - s.contact.plane_z;
+    let zmp_ref = [0, 1].map(|k| c_ref.pos[k] - h / GRAVITY * c_ref.acc[k]);
+    for k in 0..2 {
+        series.zmp_ref[k].push(zmp_ref[k]);
+        match s.contact.zmp {
+            Some(p) => {
+                m.zmp_error[k].push(p[k] - zmp_ref[k]);
+                series.zmp[k].push(p[k]);
+            }
+            None => series.zmp[k].push(f64::NAN),
+        }
+    }
+    for (k, foot) in m.feet.iter_mut().enumerate() {
+        let target = &s.targets.feet[k];
+        let r = target.reference.placement.translation;
+        for (a, stat) in foot.error.iter_mut().enumerate() {
+            stat.push(s.feet[k][a] - r[a]);
+        }
+        foot.force_peak = foot.force_peak.max(s.contact.foot_fz[k]);
+        // Slip: horizontal motion while the target says "in contact" and the foot is loaded.
+        if target.in_contact && s.contact.foot_fz[k] > ZMP_MIN_FZ {
+            let start = *contact_start[k].get_or_insert(s.feet[k]);
+            foot.slip = foot.slip.max((s.feet[k] - start).xy().norm());
+        } else {
+            contact_start[k] = None;
+        }
+        series.foot_z[k].push(s.feet[k].z);
+        series.foot_z_ref[k].push(r.z);
+        series.foot_fz[k].push(s.contact.foot_fz[k]);
+    }
+    let drift = (s.base - s.base0).norm();
+    m.base_drift = drift;
+    m.base_drift_peak = m.base_drift_peak.max(drift);
+    m.min_base_height = m.min_base_height.min(s.base.z);
+    m.other_contact_peak = m.other_contact_peak.max(s.contact.other);
+    series.t.push(s.t);
+    series.tick_us.push(s.tick_us);
+}
+
+/// Writes `bytes` to `dir/name` through a temporary file, so a failed run never leaves half a
+/// file over a previous one.
+fn write_atomic(dir: &Path, name: &str, bytes: &[u8]) -> Result<PathBuf> {
+    let target = dir.join(name);
+    let mut tmp = tempfile::Builder::new()
+        .prefix(&format!(".{name}."))
+        .suffix(".partial")
+        .tempfile_in(dir)
+        .with_context(|| format!("writing {}", target.display()))?;
+    tmp.write_all(bytes)?;
+    tmp.as_file().sync_all()?;
+    tmp.persist(&target)
+        .with_context(|| format!("writing {}", target.display()))?;
+    Ok(target)
+}
+
+/// `log.csv`: one row every `every` ticks.
+fn write_log(dir: &Path, s: &Series, every: usize) -> Result<PathBuf> {
+    let header: Vec<String> = [
+        "t",
+        "com_x",
+        "com_y",
+        "com_z",
+        "com_ref_x",
+        "com_ref_y",
+        "com_ref_z",
+        "zmp_x",
+        "zmp_y",
+        "zmp_ref_x",
+        "zmp_ref_y",
+        "left_foot_z",
+        "left_foot_z_ref",
+        "right_foot_z",
+        "right_foot_z_ref",
+        "left_foot_fz",
+        "right_foot_fz",
+        "base_x",
+        "base_y",
+        "base_z",
+        "tick_us",
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut log = crate::sim_cmd::log::CsvLog::create(dir, &header)?;
+    let mut row = Vec::with_capacity(header.len());
+    for i in (0..s.t.len()).step_by(every.max(1)) {
+        row.clear();
+        row.push(s.t[i]);
+        row.extend((0..3).map(|k| s.com[k][i]));
+        row.extend((0..3).map(|k| s.com_ref[k][i]));
+        row.extend((0..2).map(|k| s.zmp[k][i]));
+        row.extend((0..2).map(|k| s.zmp_ref[k][i]));
+        for k in 0..2 {
+            row.push(s.foot_z[k][i]);
+            row.push(s.foot_z_ref[k][i]);
+        }
+        row.extend((0..2).map(|k| s.foot_fz[k][i]));
+        row.extend((0..3).map(|k| s.base[k][i]));
+        row.push(s.tick_us[i]);
+        log.row(&row)?;
+    }
+    log.finish()
+}

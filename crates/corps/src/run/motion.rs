@@ -1,0 +1,320 @@
+//! Reference motions of a run: what the controller is asked to do, sampled every tick as
+//! [`Targets`] (a CoM reference and one target per foot). Times count from the moment the
+//! controller takes over; positions are relative to the robot's pose at that moment.
+
+use corps_control::tasks::{Reference, Se3Reference};
+use corps_control::trajectories::{MinJerk, Sinusoid};
+use corps_model::spatial::{Motion, Se3};
+use nalgebra::{DVector, Vector3};
+use serde::Deserialize;
+
+/// Which foot.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Side {
+    Left,
+    Right,
+}
+
+impl Side {
+    /// Index in [`Targets::feet`] (left 0, right 1).
+    pub fn index(self) -> usize {
+        match self {
+            Side::Left => 0,
+            Side::Right => 1,
+        }
+    }
+}
+
+/// `[motion]` of a scenario.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum MotionSection {
+    /// Hold the starting CoM and feet.
+    #[default]
+    Stand,
+    /// CoM sinusoid about its start, `amplitude` (m, per axis) at `frequency` (Hz); the
+    /// amplitude ramps in over `ramp` s (min-jerk) so the reference starts at rest.
+    ComSinusoid {
+        amplitude: [f64; 3],
+        frequency: f64,
+        #[serde(default = "one_second")]
+        ramp: f64,
+    },
+    /// CoM down by `depth` (m) in `duration` s and back up in `duration` s (min-jerk each).
+    Squat { depth: f64, duration: f64 },
+    /// Shift the CoM over the `support` foot in `shift` s, release the other foot's contact
+    /// (its force ramps to zero over the controller's contact transition), then lift it by
+    /// `lift` m in `lift_duration` s, `release` s after the shift, and hold.
+    OneFoot {
+        support: Side,
+        #[serde(default = "two_seconds")]
+        shift: f64,
+        #[serde(default = "release_time")]
+        release: f64,
+        #[serde(default = "five_centimetres")]
+        lift: f64,
+        #[serde(default = "one_second")]
+        lift_duration: f64,
+    },
+}
+
+fn one_second() -> f64 {
+    1.0
+}
+fn two_seconds() -> f64 {
+    2.0
+}
+fn release_time() -> f64 {
+    0.3
+}
+fn five_centimetres() -> f64 {
+    0.05
+}
+
+impl MotionSection {
+    /// Checks the values; the error names the key.
+    pub fn check(&self) -> Result<(), String> {
+        let positive = |name: &str, x: f64| {
+            if x > 0.0 && x.is_finite() {
+                Ok(())
+            } else {
+                Err(format!("motion.{name} = {x}: must be positive and finite"))
+            }
+        };
+        match self {
+            MotionSection::Stand => Ok(()),
+            MotionSection::ComSinusoid {
+                amplitude,
+                frequency,
+                ramp,
+            } => {
+                if amplitude.iter().any(|a| !a.is_finite()) {
+                    return Err("motion.amplitude: must be finite".into());
+                }
+                positive("frequency", *frequency)?;
+                positive("ramp", *ramp)
+            }
+            MotionSection::Squat { depth, duration } => {
+                if !depth.is_finite() {
+                    return Err("motion.depth: must be finite".into());
+                }
+                positive("duration", *duration)
+            }
+            MotionSection::OneFoot {
+                shift,
+                release,
+                lift,
+                lift_duration,
+                ..
+            } => {
+                positive("shift", *shift)?;
+                positive("release", *release)?;
+                positive("lift_duration", *lift_duration)?;
+                if !lift.is_finite() || *lift < 0.0 {
+                    return Err(format!("motion.lift = {lift}: must be ≥ 0"));
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// One foot's target: where it should be, and whether it should be in contact.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FootTarget {
+    pub reference: Se3Reference,
+    pub in_contact: bool,
+}
+
+/// What the controller is asked at one tick.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Targets {
+    /// CoM position, velocity and acceleration (world, 3 each).
+    pub com: Reference,
+    /// Left and right soles.
+    pub feet: [FootTarget; 2],
+}
+
+/// A motion anchored at the robot's CoM and soles when the controller takes over.
+pub struct MotionPlan {
+    section: MotionSection,
+    com0: Vector3<f64>,
+    feet0: [Se3; 2],
+}
+
+impl MotionPlan {
+    pub fn new(section: MotionSection, com0: Vector3<f64>, feet0: [Se3; 2]) -> Self {
+        Self {
+            section,
+            com0,
+            feet0,
+        }
+    }
+
+    /// The targets at rest at the starting pose.
+    pub fn initial_targets(&self) -> Targets {
+        let foot = |m: Se3| FootTarget {
+            reference: Se3Reference {
+                placement: m,
+                velocity: Motion::zero(),
+                acceleration: Motion::zero(),
+            },
+            in_contact: true,
+        };
+        Targets {
+            com: Reference::constant(DVector::from_column_slice(self.com0.as_slice())),
+            feet: [foot(self.feet0[0]), foot(self.feet0[1])],
+        }
+    }
+
+    /// Writes the targets at time `t` (s since the handover) into `out`.
+    pub fn sample(&self, t: f64, out: &mut Targets) {
+        let c0 = DVector::from_column_slice(self.com0.as_slice());
+        match &self.section {
+            MotionSection::Stand => {}
+            MotionSection::ComSinusoid {
+                amplitude,
+                frequency,
+                ramp,
+            } => {
+                let sine = Sinusoid {
+                    center: c0.clone(),
+                    amplitude: DVector::from_column_slice(amplitude),
+                    frequency: *frequency,
+                };
+                let r = MinJerk {
+                    start: DVector::zeros(1),
+                    end: DVector::from_element(1, 1.0),
+                    t0: 0.0,
+                    duration: *ramp,
+                }
+                .sample(t);
+                let s = sine.sample(t);
+                let (k, dk, ddk) = (r.pos[0], r.vel[0], r.acc[0]);
+                // c = c0 + k(t)(s − c0): the product rule gives the derivatives.
+                let d = &s.pos - &c0;
+                out.com = Reference {
+                    pos: &c0 + &d * k,
+                    vel: &s.vel * k + &d * dk,
+                    acc: &s.acc * k + &s.vel * (2.0 * dk) + &d * ddk,
+                };
+            }
+            MotionSection::Squat { depth, duration } => {
+                let mut low = c0.clone();
+                low[2] -= depth;
+                out.com = if t < *duration {
+                    MinJerk {
+                        start: c0,
+                        end: low,
+                        t0: 0.0,
+                        duration: *duration,
+                    }
+                    .sample(t)
+                } else {
+                    MinJerk {
+                        start: low,
+                        end: c0,
+                        t0: *duration,
+                        duration: *duration,
+                    }
+                    .sample(t)
+                };
+            }
+            MotionSection::OneFoot {
+                support,
+                shift,
+                release,
+                lift,
+                lift_duration,
+            } => {
+                let stance = self.feet0[support.index()].translation;
+                let mut over = c0.clone();
+                over[0] = stance.x;
+                over[1] = stance.y;
+                out.com = MinJerk {
+                    start: c0,
+                    end: over,
+                    t0: 0.0,
+                    duration: *shift,
+                }
+                .sample(t);
+                let swing = 1 - support.index();
+                let foot = &mut out.feet[swing];
+                foot.in_contact = t < *shift;
+                let start = self.feet0[swing].translation;
+                let r = MinJerk {
+                    start: DVector::from_column_slice(start.as_slice()),
+                    end: DVector::from_column_slice((start + Vector3::z() * *lift).as_slice()),
+                    t0: shift + release,
+                    duration: *lift_duration,
+                }
+                .sample(t);
+                let v3 = |x: &DVector<f64>| Vector3::new(x[0], x[1], x[2]);
+                foot.reference.placement.translation = v3(&r.pos);
+                foot.reference.velocity = Motion::new(v3(&r.vel), Vector3::zeros());
+                foot.reference.acceleration = Motion::new(v3(&r.acc), Vector3::zeros());
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plan(section: MotionSection) -> MotionPlan {
+        let foot = |y: f64| Se3::new(nalgebra::Matrix3::identity(), Vector3::new(0.0, y, 0.0));
+        MotionPlan::new(
+            section,
+            Vector3::new(0.0, 0.0, 0.88),
+            [foot(0.1), foot(-0.1)],
+        )
+    }
+
+    #[test]
+    fn the_sinusoid_starts_at_rest_and_reaches_its_amplitude() {
+        let p = plan(MotionSection::ComSinusoid {
+            amplitude: [0.0, 0.03, 0.0],
+            frequency: 0.5,
+            ramp: 1.0,
+        });
+        let mut out = p.initial_targets();
+        p.sample(0.0, &mut out);
+        assert!(out.com.vel.norm() < 1e-12 && out.com.acc.norm() < 1e-12);
+        p.sample(2.5, &mut out); // sin(2π·0.5·2.5) = 1
+        assert!((out.com.pos[1] - 0.03).abs() < 1e-12);
+    }
+
+    #[test]
+    fn one_foot_releases_then_lifts_the_swing_foot() {
+        let p = plan(MotionSection::OneFoot {
+            support: Side::Left,
+            shift: 2.0,
+            release: 0.3,
+            lift: 0.05,
+            lift_duration: 1.0,
+        });
+        let mut out = p.initial_targets();
+        p.sample(1.0, &mut out);
+        assert!(out.feet[1].in_contact);
+        p.sample(2.1, &mut out);
+        assert!(!out.feet[1].in_contact);
+        assert!(out.feet[1].reference.placement.translation.z.abs() < 1e-12);
+        p.sample(4.0, &mut out);
+        assert!((out.feet[1].reference.placement.translation.z - 0.05).abs() < 1e-12);
+        assert!((out.com.pos[1] - 0.1).abs() < 1e-12);
+        assert!(out.feet[0].in_contact);
+    }
+
+    #[test]
+    fn bad_values_name_their_key() {
+        let e = MotionSection::Squat {
+            depth: 0.1,
+            duration: 0.0,
+        }
+        .check()
+        .unwrap_err();
+        assert!(e.contains("motion.duration"), "{e}");
+    }
+}

@@ -1,0 +1,111 @@
+//! PNG plots of a controller run: CoM against its reference, ZMP against its reference, feet
+//! heights and vertical forces, base position, controller time per tick.
+
+use super::Series;
+use crate::sim_cmd::plots::{draw_figure, Panel};
+use anyhow::Result;
+use std::path::{Path, PathBuf};
+
+/// At most this many points per series (longer runs are decimated).
+const MAX_POINTS: usize = 20_000;
+
+fn decimate(x: &[f64], stride: usize) -> Vec<f64> {
+    x.iter().step_by(stride).copied().collect()
+}
+
+/// Writes the figures into `dir`; returns their paths.
+pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
+    let stride = s.t.len().div_ceil(MAX_POINTS).max(1);
+    let d = |x: &Vec<f64>| decimate(x, stride);
+    let t = d(&s.t);
+    let com = s.com.each_ref().map(d);
+    let com_ref = s.com_ref.each_ref().map(d);
+    let zmp = s.zmp.each_ref().map(d);
+    let zmp_ref = s.zmp_ref.each_ref().map(d);
+    let foot_z = s.foot_z.each_ref().map(d);
+    let foot_z_ref = s.foot_z_ref.each_ref().map(d);
+    let foot_fz = s.foot_fz.each_ref().map(d);
+    let base = s.base.each_ref().map(d);
+    let tick = d(&s.tick_us);
+    let mut files = vec![];
+    let axes = ["x", "y", "z"];
+
+    let path = dir.join("com.png");
+    let panels: Vec<Panel> = (0..3)
+        .map(|k| {
+            Panel::new(
+                &format!("CoM {}", axes[k]),
+                "m",
+                vec![
+                    ("measured".into(), &com[k]),
+                    ("reference".into(), &com_ref[k]),
+                ],
+            )
+        })
+        .collect();
+    draw_figure(&path, &format!("{title}: centre of mass"), &t, &panels, 3)?;
+    files.push(path);
+
+    let path = dir.join("zmp.png");
+    let panels: Vec<Panel> = (0..2)
+        .map(|k| {
+            Panel::new(
+                &format!("ZMP {}", axes[k]),
+                "m",
+                vec![
+                    ("measured".into(), &zmp[k]),
+                    ("reference (LIPM)".into(), &zmp_ref[k]),
+                ],
+            )
+        })
+        .collect();
+    draw_figure(
+        &path,
+        &format!("{title}: zero-moment point"),
+        &t,
+        &panels,
+        2,
+    )?;
+    files.push(path);
+
+    let path = dir.join("feet.png");
+    let names = ["left", "right"];
+    let mut panels: Vec<Panel> = (0..2)
+        .map(|k| {
+            Panel::new(
+                &format!("{} sole height", names[k]),
+                "m",
+                vec![
+                    ("measured".into(), &foot_z[k]),
+                    ("reference".into(), &foot_z_ref[k]),
+                ],
+            )
+        })
+        .collect();
+    panels.push(Panel::new(
+        "vertical contact force",
+        "N",
+        vec![("left".into(), &foot_fz[0]), ("right".into(), &foot_fz[1])],
+    ));
+    panels.push(Panel::new(
+        "base position",
+        "m",
+        vec![
+            ("x".into(), &base[0]),
+            ("y".into(), &base[1]),
+            ("z".into(), &base[2]),
+        ],
+    ));
+    draw_figure(&path, &format!("{title}: feet and base"), &t, &panels, 2)?;
+    files.push(path);
+
+    let path = dir.join("tick_time.png");
+    let panels = vec![Panel::new(
+        "controller time per tick",
+        "µs",
+        vec![("tick".into(), &tick)],
+    )];
+    draw_figure(&path, &format!("{title}: controller time"), &t, &panels, 1)?;
+    files.push(path);
+    Ok(files)
+}
