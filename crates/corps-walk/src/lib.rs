@@ -8,6 +8,7 @@ pub mod dcm;
 mod error;
 pub mod footsteps;
 pub mod lipm;
+pub mod mpc;
 pub mod pose;
 pub mod preview_control;
 pub mod preview_walk;
