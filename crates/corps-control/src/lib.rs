@@ -18,6 +18,7 @@ mod error;
 pub mod fallback;
 pub mod formulation;
 mod robot_state;
+pub mod stabilizer;
 pub mod tasks;
 pub mod trajectories;
 
