@@ -42,6 +42,9 @@ struct Transition {
     duration: f64,
     from: f64,
     to: f64,
+    /// The contact's minimum normal force, restored when an addition ends (it is 0 during
+    /// the ramp: a minimum above the ramping maximum would make the QP infeasible).
+    fmin_end: f64,
     remove_at_end: bool,
 }
 
@@ -124,6 +127,7 @@ impl InverseDynamics {
             duration,
             from,
             to: 0.0,
+            fmin_end: 0.0,
             remove_at_end: true,
         });
         Ok(())
@@ -133,7 +137,9 @@ impl InverseDynamics {
     /// over `duration` s.
     pub fn add_contact(&mut self, mut contact: Contact6d, t: f64, duration: f64) {
         let to = contact.fmax;
+        let fmin_end = contact.fmin;
         contact.fmax = 0.0;
+        contact.fmin = 0.0;
         let name = contact.name.clone();
         self.contacts.push(contact);
         self.transitions.retain(|tr| tr.contact != name);
@@ -143,6 +149,7 @@ impl InverseDynamics {
             duration,
             from: 0.0,
             to,
+            fmin_end,
             remove_at_end: false,
         });
     }
@@ -164,6 +171,8 @@ impl InverseDynamics {
             if s >= 1.0 {
                 if tr.remove_at_end {
                     self.contacts.remove(k);
+                } else {
+                    self.contacts[k].fmin = tr.fmin_end;
                 }
                 k_done.push(i);
             }
