@@ -23,6 +23,7 @@ pub mod gains;
 mod metrics;
 pub mod motion;
 mod plots;
+pub mod walk;
 
 pub use controller::{ControllerKind, WholeBodyController};
 pub use metrics::{FootMetrics, Metrics, Stat, TickTime};
@@ -235,10 +236,9 @@ pub fn run_scenario(
         frame_placement(&model, sim.data(), soles[0])?,
         frame_placement(&model, sim.data(), soles[1])?,
     ];
-    let plan = MotionPlan::new(scenario.motion.clone(), com0, feet0);
-    let mut targets = plan.initial_targets();
-
     let ticks = (scenario.duration / dt).round() as usize;
+    let plan = MotionPlan::new(scenario.motion.clone(), com0, feet0, dt, scenario.duration)?;
+    let mut targets = plan.initial_targets();
     let mut m = Metrics {
         scenario: name.to_string(),
         controller: section.kind.label().to_string(),

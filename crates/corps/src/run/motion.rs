@@ -2,6 +2,7 @@
 //! [`Targets`] (a CoM reference and one target per foot). Times count from the moment the
 //! controller takes over; positions are relative to the robot's pose at that moment.
 
+use super::walk::{WalkMotion, WalkSection};
 use corps_control::tasks::{Reference, Se3Reference};
 use corps_control::trajectories::{MinJerk, Sinusoid};
 use corps_model::spatial::{Motion, Se3};
@@ -57,6 +58,8 @@ pub enum MotionSection {
         #[serde(default = "one_second")]
         lift_duration: f64,
     },
+    /// Walk a footstep plan (straight, or stairs with `step_height`) with preview control.
+    Walk(WalkSection),
 }
 
 fn one_second() -> f64 {
@@ -84,6 +87,7 @@ impl MotionSection {
         };
         match self {
             MotionSection::Stand => Ok(()),
+            MotionSection::Walk(w) => w.check(),
             MotionSection::ComSinusoid {
                 amplitude,
                 frequency,
@@ -141,15 +145,36 @@ pub struct MotionPlan {
     section: MotionSection,
     com0: Vector3<f64>,
     feet0: [Se3; 2],
+    walk: Option<WalkMotion>,
 }
 
 impl MotionPlan {
-    pub fn new(section: MotionSection, com0: Vector3<f64>, feet0: [Se3; 2]) -> Self {
-        Self {
+    /// The motion for a run of `duration` s at control period `dt`.
+    pub fn new(
+        section: MotionSection,
+        com0: Vector3<f64>,
+        feet0: [Se3; 2],
+        dt: f64,
+        duration: f64,
+    ) -> anyhow::Result<Self> {
+        let walk = match &section {
+            MotionSection::Walk(w) => {
+                let sole_z = (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
+                Some(WalkMotion::new(w, &feet0, com0.z - sole_z, dt, duration)?)
+            }
+            _ => None,
+        };
+        Ok(Self {
             section,
             com0,
             feet0,
-        }
+            walk,
+        })
+    }
+
+    /// The walk, when the motion is one.
+    pub fn walk(&self) -> Option<&WalkMotion> {
+        self.walk.as_ref()
     }
 
     /// The targets at rest at the starting pose.
@@ -173,6 +198,11 @@ impl MotionPlan {
         let c0 = DVector::from_column_slice(self.com0.as_slice());
         match &self.section {
             MotionSection::Stand => {}
+            MotionSection::Walk(_) => {
+                if let Some(w) = &self.walk {
+                    w.sample(t, out);
+                }
+            }
             MotionSection::ComSinusoid {
                 amplitude,
                 frequency,
@@ -269,7 +299,10 @@ mod tests {
             section,
             Vector3::new(0.0, 0.0, 0.88),
             [foot(0.1), foot(-0.1)],
+            1e-3,
+            10.0,
         )
+        .unwrap()
     }
 
     #[test]

@@ -1,0 +1,217 @@
+//! The walking motion of a run: a footstep plan (corps-walk) turned by Kajita's preview
+//! control into CoM, ZMP and feet references, sampled at the control period, anchored at the
+//! robot's soles at the handover (plan x/y origin = the soles' midpoint, plan z = 0 = the
+//! soles' height, feet yaw relative to their starting orientation).
+
+use super::motion::{FootTarget, Side, Targets};
+use anyhow::{Context, Result};
+use corps_model::spatial::{Motion, Se3};
+use corps_walk::preview_control::PreviewParams;
+use corps_walk::preview_walk::PreviewWalk;
+use corps_walk::{Foot, FootPose, FootVelocity, FootstepPlan, Lipm, StepTiming, WalkingReference};
+use nalgebra::{Rotation3, Vector3};
+
+/// `[motion] kind = "walk"`: the parameters of a straight walk or a staircase.
+#[derive(Clone, Debug, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WalkSection {
+    /// Number of steps before the closing step.
+    pub steps: usize,
+    /// Step length (m): each foot lands this far ahead of the previous footstep.
+    pub step_length: f64,
+    /// Step height (m): > 0 climbs stairs.
+    #[serde(default)]
+    pub step_height: f64,
+    /// Single- and double-support durations (s); default seed 000 §4.2: 0.9 / 0.115.
+    #[serde(default = "single_support")]
+    pub single_support: f64,
+    #[serde(default = "double_support")]
+    pub double_support: f64,
+    /// Swing apex height (m), default 5 cm (issue: "height setting, default 5 cm").
+    #[serde(default = "swing_height")]
+    pub swing_height: f64,
+    /// The foot that steps first.
+    #[serde(default = "first_foot")]
+    pub first: Side,
+    /// The contact of a foot about to swing is released this long before lift-off (its force
+    /// ramps to zero over the controller's contact transition); default: the double support.
+    pub release: Option<f64>,
+}
+
+fn single_support() -> f64 {
+    0.9
+}
+fn double_support() -> f64 {
+    0.115
+}
+fn swing_height() -> f64 {
+    0.05
+}
+fn first_foot() -> Side {
+    Side::Right
+}
+
+impl WalkSection {
+    pub fn check(&self) -> Result<(), String> {
+        let positive = |name: &str, x: f64| {
+            if x > 0.0 && x.is_finite() {
+                Ok(())
+            } else {
+                Err(format!("motion.{name} = {x}: must be positive and finite"))
+            }
+        };
+        positive("single_support", self.single_support)?;
+        positive("double_support", self.double_support)?;
+        if !(self.step_length.is_finite() && self.step_height.is_finite()) {
+            return Err("motion.step_length and step_height: must be finite".into());
+        }
+        if !(self.swing_height >= 0.0 && self.swing_height.is_finite()) {
+            return Err("motion.swing_height: must be ≥ 0".into());
+        }
+        if let Some(r) = self.release {
+            if !(r >= 0.0 && r.is_finite()) {
+                return Err("motion.release: must be ≥ 0".into());
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The walk, sampled once per control period for the whole run.
+pub struct WalkMotion {
+    samples: Vec<WalkingReference>,
+    /// Contact flags with the early release applied, per sample.
+    contact: Vec<[bool; 2]>,
+    dt: f64,
+    origin: Vector3<f64>,
+    feet_rotation0: [nalgebra::Matrix3<f64>; 2],
+    /// When the plan starts (s after the handover): the preview window.
+    pub lead_time: f64,
+}
+
+impl WalkMotion {
+    /// Plans the walk from the soles `feet0` with the CoM at height `com_height` above them,
+    /// for `duration` s at period `dt`.
+    pub fn new(
+        w: &WalkSection,
+        feet0: &[Se3; 2],
+        com_height: f64,
+        dt: f64,
+        duration: f64,
+    ) -> Result<Self> {
+        let (l, r) = (feet0[0].translation, feet0[1].translation);
+        let origin = (l + r) / 2.0;
+        let feet_distance = (l - r).xy().norm();
+        let first = match w.first {
+            Side::Left => Foot::Left,
+            Side::Right => Foot::Right,
+        };
+        let timing = StepTiming::new(w.single_support, w.double_support);
+        let plan = FootstepPlan::stairs(
+            w.steps,
+            w.step_height,
+            w.step_length,
+            feet_distance,
+            first,
+            timing,
+        )
+        .context("motion: footstep plan")?
+        .with_swing_height(w.swing_height);
+        let mut params = PreviewParams::kajita2003();
+        params.period = dt;
+        params.lipm = Lipm::new(com_height, 9.81).context("motion: LIPM")?;
+        params.horizon = (1.6 / dt).round() as usize;
+        let mut walk = PreviewWalk::new(plan, params).context("motion: preview control")?;
+        let lead_time = walk.lead_time();
+        let n = (duration / dt).round() as usize + 1;
+        let mut samples = Vec::with_capacity(n);
+        for _ in 0..n {
+            samples.push(walk.step().context("motion: preview control")?);
+        }
+        let release = w.release.unwrap_or(w.double_support);
+        let lead = (release / dt).round() as usize;
+        let contact = (0..n)
+            .map(|i| {
+                let now = samples[i].phase;
+                let ahead = samples[(i + lead).min(n - 1)].phase;
+                [
+                    now.left_in_contact() && ahead.left_in_contact(),
+                    now.right_in_contact() && ahead.right_in_contact(),
+                ]
+            })
+            .collect();
+        Ok(Self {
+            samples,
+            contact,
+            dt,
+            origin,
+            feet_rotation0: [feet0[0].rotation, feet0[1].rotation],
+            lead_time,
+        })
+    }
+
+    /// The planned CoM and feet at the end of the run (world).
+    pub fn final_reference(&self) -> &WalkingReference {
+        self.samples.last().unwrap_or_else(|| unreachable!("n ≥ 1"))
+    }
+
+    /// A plan point in the world.
+    pub fn world(&self, p: Vector3<f64>) -> Vector3<f64> {
+        p + self.origin
+    }
+
+    /// Writes the targets at `t` into `out`.
+    pub fn sample(&self, t: f64, out: &mut Targets) {
+        let i = ((t / self.dt).round() as usize).min(self.samples.len() - 1);
+        let r = &self.samples[i];
+        let prev = &self.samples[i.saturating_sub(1)];
+        let o = self.origin;
+        for k in 0..3 {
+            out.com.pos[k] = r.com[k] + if k == 2 { o.z } else { o[k] };
+            out.com.vel[k] = r.com_vel[k];
+            out.com.acc[k] = r.com_acc[k];
+        }
+        let feet = [
+            (&r.left_foot, &r.left_foot_vel, &prev.left_foot_vel),
+            (&r.right_foot, &r.right_foot_vel, &prev.right_foot_vel),
+        ];
+        for (k, (pose, vel, prev_vel)) in feet.into_iter().enumerate() {
+            write_foot(
+                &mut out.feet[k],
+                pose,
+                vel,
+                prev_vel,
+                self.dt,
+                o,
+                &self.feet_rotation0[k],
+            );
+            out.feet[k].in_contact = self.contact[i][k];
+        }
+    }
+}
+
+/// A foot target from a plan pose: position + origin, orientation = yaw ∘ starting
+/// orientation; acceleration by a backward difference of the plan velocity.
+fn write_foot(
+    out: &mut FootTarget,
+    pose: &FootPose,
+    vel: &FootVelocity,
+    prev: &FootVelocity,
+    dt: f64,
+    origin: Vector3<f64>,
+    rotation0: &nalgebra::Matrix3<f64>,
+) {
+    let yaw = Rotation3::from_axis_angle(&Vector3::z_axis(), pose.yaw);
+    out.reference.placement = Se3::new(
+        yaw.matrix() * rotation0,
+        Vector3::new(pose.x, pose.y, pose.z) + origin,
+    );
+    out.reference.velocity = Motion::new(
+        Vector3::new(vel.x, vel.y, vel.z),
+        Vector3::new(0.0, 0.0, vel.yaw),
+    );
+    out.reference.acceleration = Motion::new(
+        Vector3::new(vel.x - prev.x, vel.y - prev.y, vel.z - prev.z) / dt,
+        Vector3::new(0.0, 0.0, (vel.yaw - prev.yaw) / dt),
+    );
+}
