@@ -22,6 +22,9 @@
 //! `v⁺ = v + α(θ̇_raw − v)` makes the characteristic polynomial
 //! `z² − (2 − α(1 + A k dt)) z + (1 − α)`, stable for `A k dt < (4 − 2α)/α` (≈ 64 at 10 Hz and
 //! 1 kHz, i.e. `A` up to ≈ 0.03 at that stiffness), and the clamp bounds what remains.
+//! That bound is for the ankle loop alone: in the coupled closed-loop test
+//! (`tests/stabilizer.rs`, floor 10⁶ N·m/rad) `A = 0.01` still fails to settle whatever the
+//! cutoff, and `A ≤ 0.003` settles; keep `A · k · dt` well below 1.
 
 use super::contact::{Sole, Wrench};
 use nalgebra::{UnitQuaternion, Vector2};
