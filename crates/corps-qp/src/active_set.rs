@@ -65,6 +65,17 @@ pub struct ActiveSetSolver {
     jlen_eq: Vec<usize>,
     r_eq: Vec<f64>,
     q_eq: usize,
+    /// Leading active entries that are never dropped: the equality phase's `q_eq` rows, or 0
+    /// when the equalities are treated as two-sided rows (`eq_rows`).
+    q_fixed: usize,
+    /// Equality rows are handled as rows `b ≤ A x ≤ b` of the active-set iterations (either
+    /// side can be added and dropped) instead of by the equality phase: the fallback of
+    /// [`ActiveSetSolver::solve_equalities_as_rows`].
+    eq_rows: bool,
+    /// `A x` (`n_eq`), for the violation scan of the `eq_rows` mode.
+    ax: Vec<f64>,
+    /// Active-set changes of the current solve so far (both phases count against `max_iter`).
+    iters: usize,
     eq_dep: Vec<bool>,
     j0_ok: bool,
     // Range-space equality phase: `dt` is Dᵀ with D = L⁻¹ Aᵀ (`n_eq × n`, column i = row i
@@ -136,6 +147,10 @@ impl ActiveSetSolver {
             jlen_eq: Vec::new(),
             r_eq: Vec::new(),
             q_eq: 0,
+            q_fixed: 0,
+            eq_rows: false,
+            ax: Vec::new(),
+            iters: 0,
             eq_dep: Vec::new(),
             j0_ok: false,
             dt: Vec::new(),
@@ -194,6 +209,10 @@ impl ActiveSetSolver {
         self.jlen_eq = vec![0; n];
         self.r_eq = zeros(n * n);
         self.q_eq = 0;
+        self.q_fixed = 0;
+        self.eq_rows = false;
+        self.ax = zeros(n_eq);
+        self.iters = 0;
         self.eq_dep = vec![false; n_eq];
         self.dt = zeros(n_eq * n);
         self.dt0 = zeros(n_eq * n);
@@ -339,6 +358,27 @@ impl ActiveSetSolver {
         if c_changed {
             self.final_ok = false;
         }
+        self.iters = 0;
+        self.eq_rows = false;
+        match self.solve_equalities_first::<F>() {
+            // The equality-first method proves infeasibility with a combination of active
+            // normals whose equality coefficients have no sign condition. At a degenerate
+            // vertex (more active constraints than variables, e.g. a hierarchy level whose
+            // held rows and saturated bounds meet at one point) the equality rows are
+            // consistent with the bounds only to rounding, and that rounding, amplified by the
+            // conditioning of the vertex, is enough for a spurious proof. Solving again with
+            // the equalities as two-sided rows, whose sides carry sign conditions like any
+            // inequality, decides it with a proof that must hold for every row.
+            Err(QpError::Infeasible) if self.ne > 0 => self.solve_equalities_as_rows::<F>(),
+            r => r,
+        }
+    }
+
+    /// The method of the crate docs: equality phase (range-space QR, fast path), warm start
+    /// from the previous active set, Goldfarb–Idnani iterations on the inequalities.
+    #[inline(always)]
+    fn solve_equalities_first<const F: bool>(&mut self) -> Result<(), QpError> {
+        let warm = self.settings.warm_start;
         // A previous final active set may use a bound side that is now infinite.
         if self.final_ok && self.active.iter().any(|e| !self.side_finite(*e)) {
             self.final_ok = false;
@@ -381,6 +421,7 @@ impl ActiveSetSolver {
                 }
             }
         }
+        self.q_fixed = self.q_eq;
         self.is_active.fill(false);
         for e in &self.active {
             self.is_active[e.id] = true;
@@ -400,7 +441,7 @@ impl ActiveSetSolver {
         loop {
             let mut kmin = usize::MAX;
             let mut umin = 0.0;
-            for k in self.q_eq..self.active.len() {
+            for k in self.q_fixed..self.active.len() {
                 if self.um[k] < umin {
                     umin = self.um[k];
                     kmin = k;
@@ -425,6 +466,48 @@ impl ActiveSetSolver {
             self.final_ok = self.eq_ok;
         }
         Ok(())
+    }
+
+    /// Fallback of [`Self::solve_equalities_first`] when it reports infeasibility: the same
+    /// Goldfarb–Idnani iterations from the unconstrained minimum `−H⁻¹ g` (`J = L⁻ᵀ`, no
+    /// active constraint), each equality row being the inequality pair `b ≤ aᵀ x ≤ b`. Either
+    /// side is added when violated and dropped when its multiplier would change sign, so an
+    /// infeasibility proof needs the right sign on every row's coefficient. Linearly dependent
+    /// rows need no special case: a dependent row is exchanged or proves infeasibility like
+    /// any other constraint. Slower than the equality phase (the iterations add the
+    /// equalities one by one), so only a fallback; the final factorization is not kept for
+    /// the next warm start, the active bounds and rows are.
+    #[inline(always)]
+    fn solve_equalities_as_rows<const F: bool>(&mut self) -> Result<(), QpError> {
+        self.eq_rows = true;
+        self.final_ok = false;
+        self.init_j0::<F>();
+        self.active.clear();
+        self.q_fixed = 0;
+        self.is_active.fill(false);
+        self.recompute::<F>();
+        let iterations = self.main_loop::<F>()?;
+        self.recompute::<F>();
+        self.write_solution::<F>(iterations);
+        if self.settings.warm_start {
+            self.prev.clear();
+            self.prev.extend_from_slice(&self.active);
+        }
+        Ok(())
+    }
+
+    /// `J = L⁻ᵀ` (computed once per H) with its triangular nonzero pattern.
+    #[inline(always)]
+    fn init_j0<const F: bool>(&mut self) {
+        let (n, ld) = (self.n, self.ld);
+        if !self.j0_ok {
+            cholesky::inverse_transpose::<F>(&self.lt, n, &mut self.j0, ld);
+            self.j0_ok = true;
+        }
+        self.jm.copy_from_slice(&self.j0);
+        for (j, len) in self.jlen.iter_mut().enumerate() {
+            *len = ((j + 1).div_ceil(4) * 4).min(ld);
+        }
     }
 
     /// Equality phase, range-space form: `D = L⁻¹ Aᵀ` (row by row, stored as `Dᵀ`), then the
@@ -618,14 +701,7 @@ impl ActiveSetSolver {
     #[inline(always)]
     fn build_j<const F: bool>(&mut self) {
         let (n, ld) = (self.n, self.ld);
-        if !self.j0_ok {
-            cholesky::inverse_transpose::<F>(&self.lt, n, &mut self.j0, ld);
-            self.j0_ok = true;
-        }
-        self.jm.copy_from_slice(&self.j0);
-        for (j, len) in self.jlen.iter_mut().enumerate() {
-            *len = ((j + 1).div_ceil(4) * 4).min(ld);
-        }
+        self.init_j0::<F>();
         // J = J₀ H₀ H₁ …, four reflectors at a time in compact WY form
         // (H_r0 … H_r0+3 = I − V T Vᵀ on the columns r0..n).
         let q_eq = self.q_eq;
@@ -758,7 +834,7 @@ impl ActiveSetSolver {
     fn rhs(&self, e: Entry) -> f64 {
         let (ne, ni) = (self.ne, self.ni);
         if e.id < ne {
-            self.b[e.id]
+            e.sign * self.b[e.id]
         } else if e.id < ne + ni {
             let i = e.id - ne;
             if e.sign > 0.0 {
@@ -933,7 +1009,7 @@ impl ActiveSetSolver {
         let (n, ne, ni, ld) = (self.n, self.ne, self.ni, self.ld);
         let tol = self.settings.primal_tol;
         let max_iter = self.settings.max_iter;
-        let mut iter = 0usize;
+        let mut iter = self.iters;
         loop {
             // Step 1: the most violated inactive constraint.
             self.cx.fill(0.0);
@@ -962,6 +1038,24 @@ impl ActiveSetSolver {
                     };
                 }
             }
+            if self.eq_rows {
+                // Equality rows as two-sided rows b ≤ a x ≤ b.
+                self.ax.fill(0.0);
+                gemv::<F>(1.0, &self.a, ne, &self.x[..n], &mut self.ax);
+                for i in 0..ne {
+                    if self.is_active[i] {
+                        continue;
+                    }
+                    let r = self.ax[i] - self.b[i];
+                    if -r > best_v {
+                        best_v = -r;
+                        best = Entry { id: i, sign: 1.0 };
+                    } else if r > best_v {
+                        best_v = r;
+                        best = Entry { id: i, sign: -1.0 };
+                    }
+                }
+            }
             for i in 0..n {
                 if self.is_active[ne + ni + i] {
                     continue;
@@ -982,6 +1076,7 @@ impl ActiveSetSolver {
                 }
             }
             if best.id == usize::MAX {
+                self.iters = iter;
                 return Ok(iter);
             }
             let p = best;
@@ -994,10 +1089,10 @@ impl ActiveSetSolver {
                 }
                 self.compute_d::<F>(p);
                 let q = self.active.len();
-                // Dual step r = R⁻¹ d₁, only for the inequality rows q_eq..q: R is upper
+                // Dual step r = R⁻¹ d₁, only for the droppable rows q_fixed..q: R is upper
                 // triangular, so they need only the trailing block of R; the equality
                 // multipliers are not read in this loop and are recomputed at its end.
-                let qe = self.q_eq;
+                let qe = self.q_fixed;
                 self.rv[qe..q].copy_from_slice(&self.d[qe..q]);
                 if q > qe {
                     back_substitute::<F>(
@@ -1010,7 +1105,7 @@ impl ActiveSetSolver {
                 }
                 let mut t1 = f64::INFINITY;
                 let mut kdrop = usize::MAX;
-                for k in self.q_eq..q {
+                for k in qe..q {
                     if self.rv[k] > 0.0 {
                         let t = self.um[k] / self.rv[k];
                         if t < t1 {
@@ -1035,6 +1130,7 @@ impl ActiveSetSolver {
                 };
                 let t = t1.min(t2);
                 if t == f64::INFINITY {
+                    self.iters = iter;
                     return Err(QpError::Infeasible);
                 }
                 for k in qe..q {
@@ -1069,7 +1165,7 @@ impl ActiveSetSolver {
         for (k, e) in self.active.iter().enumerate() {
             let u = self.um[k];
             if e.id < ne {
-                sol.y_eq[e.id] = -u;
+                sol.y_eq[e.id] = -e.sign * u;
                 sol.active_set.push(ActiveConstraint::Equality(e.id));
             } else if e.id < ne + ni {
                 let i = e.id - ne;

@@ -47,6 +47,13 @@
 //!   as such products too. The kernels use AVX2 + FMA when the CPU has them (checked at run
 //!   time), portable code that auto-vectorizes otherwise. The dual step of an inequality
 //!   iteration only solves the trailing (inequality) block of `R`.
+//! - **Degenerate vertices.** With equalities fixed first, an infeasibility proof (a violated
+//!   normal that is a combination of the active ones with no droppable inequality) puts no sign
+//!   condition on the equality coefficients; at a degenerate vertex (more active constraints
+//!   than variables, dependent normals) rounding amplified by the vertex's conditioning can
+//!   produce such a proof for a feasible problem. Before reporting `Infeasible`, the solver
+//!   therefore solves again from `−H⁻¹ g` with each equality row as the pair `b ≤ aᵀ x ≤ b`,
+//!   so that every coefficient of a proof has a sign condition (`tests/degenerate_vertex.rs`).
 //!
 //! ## Warm start
 //!
