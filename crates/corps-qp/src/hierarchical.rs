@@ -8,17 +8,30 @@
 //! ```text
 //! minimize over (x, v)   ½ ‖A_k x − b_k‖²_W + ½ ‖v‖²_W + ½ ε ‖x‖²
 //! subject to             l_k ≤ C_k x − v ≤ u_k                       (v: inequality slacks)
-//!                        A_j x = A_j x*_{k−1}  for every level j < k   (achieved residual kept)
+//!                        |A_j x − A_j x*_{k−1}| ≤ δ  for every level j < k (achieved residual kept)
 //!                        C_j x within [l_j, u_j] widened to C_j x*_{k−1} (achieved violation kept)
 //!                        lx ≤ x ≤ ux                                    (hard bounds)
 //! ```
 //!
 //! where `x*_{k−1}` is the previous level's solution, which achieves every upper level's
-//! optimum (computing all held targets from one point keeps dependent held rows consistent).
-//! An upper level's task error is therefore held
-//! exactly (to rounding) by every level below it: a lower level can only use the freedom the
-//! upper ones leave. ε (`regularization`, default 1e-9) keeps each level's Hessian positive
-//! definite; at the last level it selects the smallest-norm `x` among the remaining freedom.
+//! optimum (computing all held targets from one point keeps dependent held rows consistent),
+//! moved into the hard bounds (the QP solution may leave them by the solver's primal
+//! tolerance). An upper level's task error is therefore held to within
+//! `δ = primal_tol · (1 + |A_j x*_{k−1}|)` (`Settings::primal_tol` of the levels' solvers,
+//! default 1e-9, the accuracy to which each QP satisfies its constraints anyway) by every level
+//! below it: a lower level can only use the freedom the upper ones leave. ε (`regularization`,
+//! default 1e-9) keeps each level's Hessian positive definite; at the last level it selects the
+//! smallest-norm `x` among the remaining freedom.
+//!
+//! Why the held equalities are narrow two-sided rows and not equality constraints: when the
+//! upper levels saturate many hard bounds, their optimum is a degenerate vertex of the lower
+//! level's feasible set (more held rows and active bounds than variables, with linearly
+//! dependent normals), often a single point. Held exactly, that set is empty or not at the
+//! rounding level, and the conditioning of the vertex (ε makes `H` nearly singular) amplifies
+//! the rounding until the dual active-set method proves "infeasibility" from it (the TALOS IK
+//! of `tests/degenerate_vertex.rs`). With width δ the set has an interior at the scale of the
+//! solver's own tolerance, and either side of a held row can be added and dropped like any
+//! inequality.
 
 use nalgebra::{DMatrix, DVector};
 use thiserror::Error;
@@ -172,18 +185,17 @@ impl HierarchicalQp {
     pub fn new(n: usize, levels: Vec<Level>) -> Self {
         let mut solvers = Vec::with_capacity(levels.len());
         let mut problems = Vec::with_capacity(levels.len());
-        let (mut held_eq, mut held_in) = (0, 0);
+        let mut held = 0;
         for lv in &levels {
             let nv = n + lv.n_in();
             solvers.push(ActiveSetSolver::with_settings(
                 nv,
-                held_eq,
-                held_in + lv.n_in(),
+                0,
+                held + lv.n_in(),
                 Settings::default(),
             ));
-            problems.push(QpProblem::new(nv, held_eq, held_in + lv.n_in()));
-            held_eq += lv.n_eq();
-            held_in += lv.n_in();
+            problems.push(QpProblem::new(nv, 0, held + lv.n_in()));
+            held += lv.n_eq() + lv.n_in();
         }
         Self {
             n,
@@ -298,19 +310,8 @@ impl HierarchicalQp {
             for r in 0..ri {
                 p.h[(n + r, n + r)] = lv.in_weights[r];
             }
-            // Held equalities of the levels above.
-            let mut row = 0;
-            for j in 0..k {
-                let up = &self.levels[j];
-                for r in 0..up.n_eq() {
-                    for c in 0..n {
-                        p.a[(row, c)] = up.a[(r, c)];
-                    }
-                    p.b[row] = self.eq_target[j][r];
-                    row += 1;
-                }
-            }
-            // This level's inequalities with slacks, then the held ones.
+            // This level's inequalities with slacks, then the held inequalities and equalities
+            // of the levels above.
             p.c.fill(0.0);
             for r in 0..ri {
                 for c in 0..n {
@@ -332,12 +333,34 @@ impl HierarchicalQp {
                     row += 1;
                 }
             }
+            let tol = self.solvers[k].settings().primal_tol;
+            for j in 0..k {
+                let up = &self.levels[j];
+                for r in 0..up.n_eq() {
+                    for c in 0..n {
+                        p.c[(row, c)] = up.a[(r, c)];
+                    }
+                    let t = self.eq_target[j][r];
+                    let delta = tol * (1.0 + t.abs());
+                    p.l[row] = t - delta;
+                    p.u[row] = t + delta;
+                    row += 1;
+                }
+            }
             p.lx.rows_mut(0, n).copy_from(&self.lx);
             p.ux.rows_mut(0, n).copy_from(&self.ux);
             let sol = self.solvers[k]
                 .solve(p)
                 .map_err(|source| HqpError::Level { level: k, source })?;
-            self.x.copy_from(&sol.x.rows(0, n));
+            // Keep x inside the hard bounds: the QP solution may leave them by up to the
+            // solver's primal tolerance, and the levels below hold their targets at this x. At
+            // a degenerate vertex (upper levels saturating many bounds, so that the held rows
+            // and the active bounds meet in one point) targets computed from a point outside
+            // the box are inconsistent with the box, and the level below is infeasible by that
+            // amount. Inside the box, x is feasible for every lower level by construction.
+            for i in 0..n {
+                self.x[i] = sol.x[i].max(self.lx[i]).min(self.ux[i]);
+            }
         }
         Ok(&self.x)
     }

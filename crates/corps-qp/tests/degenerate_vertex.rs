@@ -9,7 +9,7 @@
 mod common;
 
 use common::{clarabel_solve, kkt, Reference};
-use corps_qp::{ActiveSetSolver, QpProblem, Settings};
+use corps_qp::{ActiveSetSolver, HierarchicalQp, Level, QpProblem, Settings};
 use nalgebra::{DMatrix, DVector};
 
 fn json() -> serde_json::Value {
@@ -48,6 +48,32 @@ fn fixture_qp() -> QpProblem {
     p.lx = vector(&q["lx"], f64::NEG_INFINITY);
     p.ux = vector(&q["ux"], f64::INFINITY);
     p
+}
+
+fn fixture_hierarchy() -> HierarchicalQp {
+    let root = json();
+    let h = &root["hierarchy"];
+    let lx = vector(&h["lx"], f64::NEG_INFINITY);
+    let n = lx.len();
+    let levels = h["levels"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| Level {
+            a: matrix(&l["A"], n),
+            b: vector(&l["b"], f64::NAN),
+            eq_weights: vector(&l["eq_weights"], f64::NAN),
+            c: matrix(&l["C"], n),
+            l: vector(&l["l"], f64::NEG_INFINITY),
+            u: vector(&l["u"], f64::INFINITY),
+            in_weights: vector(&l["in_weights"], f64::NAN),
+        })
+        .collect();
+    let mut hqp = HierarchicalQp::new(n, levels);
+    hqp.lx = lx;
+    hqp.ux = vector(&h["ux"], f64::INFINITY);
+    hqp.regularization = root["regularization"].as_f64().unwrap();
+    hqp
 }
 
 /// The fixture level is feasible (Clarabel solves it), and corps-qp finds the same optimum,
@@ -89,4 +115,23 @@ fn ik_talos_level_matches_clarabel() {
         assert!(dobj <= 1e-6, "objective {} vs {obj_ref}", sol.objective);
         assert!(r.max() <= 1e-8, "KKT residuals {r:?}");
     }
+}
+
+/// The whole IK hierarchy of that tick solves, and every level keeps what the levels above
+/// achieved.
+#[test]
+fn ik_talos_hierarchy_solves() {
+    let mut hqp = fixture_hierarchy();
+    let levels = hqp.levels().to_vec();
+    let x = hqp.solve().expect("hierarchy").clone();
+    for (k, lv) in levels.iter().enumerate() {
+        eprintln!("level {k}: cost {:e}", lv.cost(&x));
+    }
+    let bound_violation = (0..x.len())
+        .map(|i| (hqp.lx[i] - x[i]).max(x[i] - hqp.ux[i]).max(0.0))
+        .fold(0.0, f64::max);
+    assert!(
+        bound_violation <= 1e-9,
+        "bounds violated by {bound_violation:e}"
+    );
 }
