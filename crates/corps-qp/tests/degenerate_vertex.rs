@@ -11,6 +11,9 @@ mod common;
 use common::{clarabel_solve, kkt, Reference};
 use corps_qp::{ActiveSetSolver, HierarchicalQp, Level, QpProblem, Settings};
 use nalgebra::{DMatrix, DVector};
+use proptest::prelude::*;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
 fn json() -> serde_json::Value {
     let path = concat!(
@@ -134,4 +137,149 @@ fn ik_talos_hierarchy_solves() {
         bound_violation <= 1e-9,
         "bounds violated by {bound_violation:e}"
     );
+}
+
+/// A QP whose optimum is a degenerate vertex `x0`, by construction: `k` variables sit exactly
+/// on a bound at `x0` with `n_eq + k > n` (more active constraints than variables), the
+/// equality rows include linear combinations of other rows and of those bounds' normals
+/// (dependent active normals, right-hand sides `A x0` rounded like any computed target), some
+/// inequality rows pass through `x0` too, and `g = −H x0 − Aᵀ y − Cᵀ z − z_box` with
+/// multipliers of the right signs (some zero: weakly active). `H` is well conditioned, or, with
+/// `flat`, a rank-`r` task plus `1e-9 I` like a hierarchy level.
+fn degenerate_vertex_qp(seed: u64, n: usize, flat: bool) -> (QpProblem, DVector<f64>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let ne0 = rng.gen_range(1..=n / 2);
+    let k = rng.gen_range(n - ne0 + 1..=n);
+    let n_dep = rng.gen_range(1..=3);
+    let ni = rng.gen_range(0..=n / 2);
+    let ne = ne0 + n_dep;
+    let x0 = common::rand_vector(&mut rng, n) * 2.0;
+    let mut p = QpProblem::new(n, ne, ni);
+    p.h = if flat {
+        let r = rng.gen_range(1..=3);
+        let b = common::rand_matrix(&mut rng, r, n);
+        b.transpose() * &b + DMatrix::identity(n, n) * 1e-9
+    } else {
+        let m = common::rand_matrix(&mut rng, n, n);
+        m.transpose() * &m / n as f64 + DMatrix::identity(n, n) * 0.5
+    };
+    // Bounds: the first k variables of a random order on a bound at x0 (side at random), the
+    // others inside loose bounds or unbounded.
+    let mut order: Vec<usize> = (0..n).collect();
+    for i in (1..n).rev() {
+        order.swap(i, rng.gen_range(0..=i));
+    }
+    let mut z_box = DVector::zeros(n);
+    for (rank, &i) in order.iter().enumerate() {
+        if rank < k {
+            let weak = rng.gen_bool(0.2);
+            let mag = if weak { 0.0 } else { rng.gen_range(0.1..2.0) };
+            if rng.gen_bool(0.5) {
+                p.lx[i] = x0[i];
+                p.ux[i] = x0[i] + rng.gen_range(0.5..2.0);
+                z_box[i] = -mag;
+            } else {
+                p.ux[i] = x0[i];
+                p.lx[i] = x0[i] - rng.gen_range(0.5..2.0);
+                z_box[i] = mag;
+            }
+        } else if rng.gen_bool(0.5) {
+            p.lx[i] = x0[i] - rng.gen_range(0.1..1.0);
+            p.ux[i] = x0[i] + rng.gen_range(0.1..1.0);
+        }
+    }
+    // Equalities: independent rows, then combinations of them and of the active bounds.
+    let a0 = common::rand_matrix(&mut rng, ne0, n);
+    p.a.rows_mut(0, ne0).copy_from(&a0);
+    for d in 0..n_dep {
+        let mut row = a0.tr_mul(&common::rand_vector(&mut rng, ne0)).transpose();
+        for &i in order.iter().take(k) {
+            if rng.gen_bool(0.5) {
+                row[i] += rng.gen_range(-1.0..1.0);
+            }
+        }
+        p.a.set_row(ne0 + d, &row);
+    }
+    p.b = &p.a * &x0;
+    // Inequalities: about half through x0 (active, multiplier of the right sign or zero),
+    // the others inactive.
+    p.c = common::rand_matrix(&mut rng, ni, n);
+    let cx0 = &p.c * &x0;
+    let mut z_in = DVector::zeros(ni);
+    for i in 0..ni {
+        let through = rng.gen_bool(0.5);
+        let mag = if rng.gen_bool(0.2) {
+            0.0
+        } else {
+            rng.gen_range(0.1..2.0)
+        };
+        if through && rng.gen_bool(0.5) {
+            p.l[i] = cx0[i];
+            p.u[i] = cx0[i] + rng.gen_range(0.1..1.0);
+            z_in[i] = -mag;
+        } else if through {
+            p.u[i] = cx0[i];
+            p.l[i] = f64::NEG_INFINITY;
+            z_in[i] = mag;
+        } else {
+            p.l[i] = cx0[i] - rng.gen_range(0.1..1.0);
+            p.u[i] = cx0[i] + rng.gen_range(0.1..1.0);
+        }
+    }
+    let y = common::rand_vector(&mut rng, ne);
+    p.g = -(&p.h * &x0) - p.a.tr_mul(&y) - p.c.tr_mul(&z_in) - &z_box;
+    (p, x0)
+}
+
+fn check_degenerate_vertex(seed: u64, n: usize, flat: bool) -> Result<(), TestCaseError> {
+    let (p, x0) = degenerate_vertex_qp(seed, n, flat);
+    let (n, ne, ni) = p.dims();
+    let settings = Settings {
+        warm_start: false,
+        ..Settings::default()
+    };
+    let mut s = ActiveSetSolver::with_settings(n, ne, ni, settings);
+    let sol = s
+        .solve(&p)
+        .map_err(|e| TestCaseError::fail(format!("corps-qp: {e}")))?;
+    let dx0 = (&sol.x - &x0).amax();
+    prop_assert!(dx0 <= 1e-6, "|x − x0| = {dx0:e}");
+    let r = kkt(&p, sol);
+    prop_assert!(r.max() <= 1e-8, "KKT residuals {r:?}");
+    match clarabel_solve(&p) {
+        Reference::Solved { x, objective } => {
+            let dx = (&sol.x - &x).amax();
+            prop_assert!(dx <= 1e-6, "|x − x_clarabel| = {dx:e}");
+            let dobj = (sol.objective - objective).abs() / (1.0 + objective.abs());
+            prop_assert!(dobj <= 1e-6, "objective {} vs {objective}", sol.objective);
+        }
+        other => prop_assert!(false, "Clarabel: {other:?}"),
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 64,
+        // A fixed seed: CI runs the same cases every time (set another to explore);
+        // no regression files are written during CI.
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0xde9e),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    /// Degenerate vertices with a well-conditioned H: corps-qp (cold) finds the constructed
+    /// optimum x0 to 1e-6, agrees with Clarabel to 1e-6 in x and objective, and its KKT
+    /// residuals are ≤ 1e-8.
+    #[test]
+    fn degenerate_vertices_match_clarabel(seed in any::<u64>(), n in 4usize..30) {
+        check_degenerate_vertex(seed, n, false)?;
+    }
+
+    /// The same with H = BᵀB + 1e-9 I (rank-1 to 3 task plus the hierarchy's regularization).
+    #[test]
+    #[ignore = "known limitation: with cond(H) ~ 1e9 at a degenerate vertex the solver still reports some of these feasible QPs infeasible (a one-off count over 400 seeds: 72 failed, 96 before the equalities-as-rows fallback); HierarchicalQp avoids it by holding upper levels within the primal tolerance"]
+    fn degenerate_vertices_with_flat_hessian_match_clarabel(seed in any::<u64>(), n in 4usize..30) {
+        check_degenerate_vertex(seed, n, true)?;
+    }
 }
