@@ -14,8 +14,10 @@ use clap::{Parser, Subcommand};
     about = "Whole-body control of humanoid robots"
 )]
 struct Cli {
+    /// Without a command: the main job, TALOS walking 1.2 m under the TSID torque controller
+    /// (`corps run scenarios/walk/tsid_torque_20cm.toml`).
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
 }
 
 #[derive(Subcommand)]
@@ -33,9 +35,10 @@ enum Command {
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Model(cmd) => model_cmd::run(cmd),
-        Command::Sim(args) => sim_cmd::run(args),
-        Command::Run(args) => run::run(args),
+        None => run::run_main_job(),
+        Some(Command::Model(cmd)) => model_cmd::run(cmd),
+        Some(Command::Sim(args)) => sim_cmd::run(args),
+        Some(Command::Run(args)) => run::run(args),
     };
     if let Err(e) = result {
         eprintln!("corps: error: {e:#}");

@@ -13,6 +13,42 @@ use std::path::Path;
 pub const TSID_TORQUE: &str = include_str!("../../../../config/talos/tsid_torque.toml");
 pub const TSID_POSITION: &str = include_str!("../../../../config/talos/tsid_position.toml");
 pub const IK_POSITION: &str = include_str!("../../../../config/talos/ik_position.toml");
+pub const TSID_TORQUE_WALK: &str = include_str!("../../../../config/talos/tsid_torque_walk.toml");
+
+/// The built-in gains files by name (`[controller] gains = "tsid_torque_walk"`).
+pub const BUILT_IN: [(&str, &str); 4] = [
+    ("tsid_torque", TSID_TORQUE),
+    ("tsid_torque_walk", TSID_TORQUE_WALK),
+    ("tsid_position", TSID_POSITION),
+    ("ik_position", IK_POSITION),
+];
+
+/// The gains file a scenario names: a built-in name (no extension, no directory) or a path
+/// relative to the scenario's directory; None: the kind's default.
+pub enum GainsSource<'a> {
+    BuiltIn(&'a str),
+    File(std::path::PathBuf),
+}
+
+impl<'a> GainsSource<'a> {
+    pub fn resolve(name: &Path, base_dir: &Path) -> Result<GainsSource<'a>> {
+        let text = name.to_string_lossy();
+        if name.extension().is_none() && name.components().count() == 1 {
+            return BUILT_IN
+                .iter()
+                .find(|(n, _)| *n == text)
+                .map(|(_, t)| GainsSource::BuiltIn(t))
+                .ok_or_else(|| {
+                    let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
+                    anyhow!(
+                        "'{text}' is neither a file nor a built-in gains set ({})",
+                        names.join(", ")
+                    )
+                });
+        }
+        Ok(GainsSource::File(base_dir.join(name)))
+    }
+}
 
 /// A PD-controlled task in the cost: `Kp`, `Kd` (absent: 2√Kp, critical damping) and weight.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -238,6 +274,9 @@ mod tests {
             p.posture.groups["leg_left_"],
             vec![10.0, 5.0, 5.0, 1.0, 10.0, 10.0]
         );
+        let w: TsidGains = load(None, TSID_TORQUE_WALK, &toml::Table::new()).unwrap();
+        w.check().unwrap();
+        assert_eq!((w.com.kp, w.feet.kp), (20.0, 1200.0));
         let ik: IkGainsFile = load(None, IK_POSITION, &toml::Table::new()).unwrap();
         ik.check().unwrap();
         assert_eq!(ik.waist, 300.0);

@@ -2,7 +2,7 @@
 //! average / standard deviation / peak per axis, contact forces, base drift and foot slip,
 //! mechanical work (Eq 4.16's E_m and E_m+), and the controller's time per tick.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// Running average / standard deviation / peak of |e|.
@@ -73,6 +73,54 @@ pub struct FootMetrics {
     pub force_mean: f64,
 }
 
+/// The documents' figures for an experiment (`[thesis]` of a scenario), each as
+/// `[average, standard deviation, peak]` in metres, and the costs of transport.
+#[derive(Clone, Debug, Default, Deserialize, Serialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ThesisFigures {
+    /// Where the figures come from, e.g. "seed 000 Table 4.4, TSID torque".
+    pub source: String,
+    pub com_x: Option<[f64; 3]>,
+    pub com_y: Option<[f64; 3]>,
+    pub zmp_x: Option<[f64; 3]>,
+    pub zmp_y: Option<[f64; 3]>,
+    pub left_foot_x: Option<[f64; 3]>,
+    pub left_foot_y: Option<[f64; 3]>,
+    pub right_foot_x: Option<[f64; 3]>,
+    pub right_foot_y: Option<[f64; 3]>,
+    pub cost_of_transport: Option<f64>,
+    pub mechanical_cost_of_transport: Option<f64>,
+}
+
+impl ThesisFigures {
+    /// The figures of a table row ("CoM", "x"), if given.
+    fn get(&self, name: &str, axis: &str) -> Option<[f64; 3]> {
+        match (name, axis) {
+            ("CoM", "x") => self.com_x,
+            ("CoM", "y") => self.com_y,
+            ("ZMP", "x") => self.zmp_x,
+            ("ZMP", "y") => self.zmp_y,
+            ("left foot", "x") => self.left_foot_x,
+            ("left foot", "y") => self.left_foot_y,
+            ("right foot", "x") => self.right_foot_x,
+            ("right foot", "y") => self.right_foot_y,
+            _ => None,
+        }
+    }
+}
+
+/// The figures of a walk.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct WalkMetrics {
+    /// Horizontal distance travelled by the base (m).
+    pub distance: f64,
+    /// Horizontal distance between the final base and where the plan puts it (m).
+    pub final_base_error: f64,
+    /// Costs of transport C_et = E_m/(m g D) and C_mt = E_m+/(m g D) (seed 000 Eq 4.16).
+    pub cost_of_transport: f64,
+    pub mechanical_cost_of_transport: f64,
+}
+
 /// Everything measured during a run.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Metrics {
@@ -100,17 +148,32 @@ pub struct Metrics {
     /// Ticks that used the safe command, and the first reason.
     pub fallbacks: usize,
     pub first_fallback: Option<String>,
+    /// For a walk.
+    pub walk: Option<WalkMetrics>,
+    /// The documents' figures, printed beside ours.
+    pub thesis: Option<ThesisFigures>,
 }
 
-fn row(f: &mut fmt::Formatter<'_>, name: &str, axes: &[(&str, &Stat)]) -> fmt::Result {
+fn row(
+    f: &mut fmt::Formatter<'_>,
+    thesis: Option<&ThesisFigures>,
+    name: &str,
+    axes: &[(&str, &Stat)],
+) -> fmt::Result {
     for (axis, s) in axes {
-        writeln!(
+        write!(
             f,
-            "  {name:<22} {axis}  {:>9.2} {:>9.2} {:>9.2}",
+            "  {name:<14} {axis}  {:>7.1} {:>7.1} {:>7.1}",
             s.avg * 1e3,
             s.std * 1e3,
             s.peak * 1e3
         )?;
+        match thesis.and_then(|t| t.get(name, axis)) {
+            Some([a, sd, p]) => {
+                writeln!(f, "    {:>7.1} {:>7.1} {:>7.1}", a * 1e3, sd * 1e3, p * 1e3)?
+            }
+            None => writeln!(f)?,
+        }
     }
     Ok(())
 }
@@ -122,15 +185,20 @@ impl fmt::Display for Metrics {
             "{} — {} — {:.2} s controlled",
             self.scenario, self.controller, self.duration
         )?;
-        writeln!(f, "  tracking error (mm)        avg       std      peak")?;
+        let th = self.thesis.as_ref();
+        write!(f, "  error (mm)            avg     std    peak")?;
+        match th {
+            Some(t) => writeln!(f, "    thesis: {}", t.source)?,
+            None => writeln!(f)?,
+        }
         let c = &self.com_error;
-        row(f, "CoM", &[("x", &c[0]), ("y", &c[1]), ("z", &c[2])])?;
+        row(f, th, "CoM", &[("x", &c[0]), ("y", &c[1]), ("z", &c[2])])?;
         let z = &self.zmp_error;
-        row(f, "ZMP", &[("x", &z[0]), ("y", &z[1])])?;
+        row(f, th, "ZMP", &[("x", &z[0]), ("y", &z[1])])?;
         for foot in &self.feet {
             let e = &foot.error;
             let name = format!("{} foot", foot.label);
-            row(f, &name, &[("x", &e[0]), ("y", &e[1]), ("z", &e[2])])?;
+            row(f, th, &name, &[("x", &e[0]), ("y", &e[1]), ("z", &e[2])])?;
         }
         for foot in &self.feet {
             writeln!(
@@ -161,6 +229,23 @@ impl fmt::Display for Metrics {
             "  mechanical work {:.1} J (positive {:.1} J)",
             self.work, self.positive_work
         )?;
+        if let Some(w) = &self.walk {
+            writeln!(
+                f,
+                "  walk: {:.3} m travelled, final base {:.1} mm from the plan",
+                w.distance,
+                w.final_base_error * 1e3
+            )?;
+            write!(
+                f,
+                "  cost of transport C_et {:.2}, C_mt {:.2}",
+                w.cost_of_transport, w.mechanical_cost_of_transport
+            )?;
+            match th.map(|t| (t.cost_of_transport, t.mechanical_cost_of_transport)) {
+                Some((Some(et), Some(mt))) => writeln!(f, "   (thesis {et:.2}, {mt:.2})")?,
+                _ => writeln!(f)?,
+            }
+        }
         let t = &self.tick_time;
         writeln!(
             f,

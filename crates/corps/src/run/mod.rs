@@ -26,7 +26,7 @@ mod plots;
 pub mod walk;
 
 pub use controller::{ControllerKind, WholeBodyController};
-pub use metrics::{FootMetrics, Metrics, Stat, TickTime};
+pub use metrics::{FootMetrics, Metrics, Stat, ThesisFigures, TickTime, WalkMetrics};
 pub use motion::{MotionSection, Side, Targets};
 
 use crate::sim_cmd::scenario::Scenario;
@@ -96,6 +96,10 @@ pub struct RunArgs {
 /// Runs `corps run`.
 pub fn run(args: RunArgs) -> Result<()> {
     let report = run_file(&args.scenario, args.output.as_deref(), args.duration, true)?;
+    print_report(&report)
+}
+
+fn print_report(report: &RunReport) -> Result<()> {
     let mut out = std::io::stdout().lock();
     let written = write!(out, "{}", report.metrics).and_then(|_| {
         writeln!(out, "  wrote {}", report.dir.display())?;
@@ -133,7 +137,35 @@ pub fn run_file(
         }
         Err(e) => bail!("{shown}: cannot read the scenario file: {e}"),
     };
-    let mut scenario = Scenario::parse(&text).map_err(|e| anyhow!("{shown}: {e}"))?;
+    run_text(&text, path, output, duration, progress)
+}
+
+/// The main job (`corps` without arguments): TALOS walks 6 × 20 cm plus a closing step
+/// under the TSID torque controller (`scenarios/walk/tsid_torque_20cm.toml`, built in).
+pub const MAIN_JOB: &str = include_str!("../../../../scenarios/walk/tsid_torque_20cm.toml");
+
+/// Runs the main job into `out/tsid_torque_20cm`, with a progress bar.
+pub fn run_main_job() -> Result<()> {
+    let report = run_text(
+        MAIN_JOB,
+        Path::new("tsid_torque_20cm.toml"),
+        None,
+        None,
+        true,
+    )?;
+    print_report(&report)
+}
+
+/// Runs scenario `text`, read from `path` (which names the run and anchors relative paths).
+pub fn run_text(
+    text: &str,
+    path: &Path,
+    output: Option<&Path>,
+    duration: Option<f64>,
+    progress: bool,
+) -> Result<RunReport> {
+    let shown = path.display();
+    let mut scenario = Scenario::parse(text).map_err(|e| anyhow!("{shown}: {e}"))?;
     if let Some(d) = duration {
         scenario = scenario
             .with_duration(d)
@@ -174,7 +206,16 @@ pub fn run_scenario(
     let Some(section) = &scenario.controller else {
         bail!("no [controller] section: this is a `corps sim` scenario");
     };
-    let gains_path = section.gains.as_ref().map(|p| base_dir.join(p));
+    let source = match &section.gains {
+        Some(p) => Some(gains::GainsSource::resolve(p, base_dir).context("controller.gains")?),
+        None => None,
+    };
+    // (file, built-in text) for `gains::load`, the kind's default text filled in below.
+    let (gains_path, built_in) = match source {
+        Some(gains::GainsSource::File(p)) => (Some(p), None),
+        Some(gains::GainsSource::BuiltIn(t)) => (None, Some(t)),
+        None => (None, None),
+    };
     let Setup {
         model,
         mut sim,
@@ -204,16 +245,24 @@ pub fn run_scenario(
             } else {
                 (TsidMode::Position, gains::TSID_POSITION)
             };
-            let g = gains::load(gains_path.as_deref(), default, &section.set)
-                .context("controller.gains")?;
+            let g = gains::load(
+                gains_path.as_deref(),
+                built_in.unwrap_or(default),
+                &section.set,
+            )
+            .context("controller.gains")?;
             Box::new(
                 TsidController::new(model.clone(), mode, g, dt, &q, &v, &q0)
                     .context("controller")?,
             )
         }
         ControllerKind::IkPosition => {
-            let g = gains::load(gains_path.as_deref(), gains::IK_POSITION, &section.set)
-                .context("controller.gains")?;
+            let g = gains::load(
+                gains_path.as_deref(),
+                built_in.unwrap_or(gains::IK_POSITION),
+                &section.set,
+            )
+            .context("controller.gains")?;
             Box::new(IkController::new(model.clone(), g, dt, &q, &q0).context("controller")?)
         }
     };
@@ -313,6 +362,29 @@ pub fn run_scenario(
     }
     bar.finish_and_clear();
     m.tick_time = TickTime::from_samples(&mut tick_us);
+    m.thesis = scenario.thesis.clone();
+    if let Some(walk) = plan.walk() {
+        // Where the plan puts the base: its final feet midpoint plus the base's starting
+        // offset from the feet midpoint.
+        let r = walk.final_reference();
+        let mid = walk.world(Vector3::new(
+            (r.left_foot.x + r.right_foot.x) / 2.0,
+            (r.left_foot.y + r.right_foot.y) / 2.0,
+            0.0,
+        ));
+        let mid0 = (feet0[0].translation + feet0[1].translation) / 2.0;
+        let planned = mid + (base0 - mid0);
+        let q = sim.q();
+        let base = Vector3::new(q[0], q[1], q[2]);
+        let distance = (base - base0).xy().norm();
+        let weight = model.total_mass() * GRAVITY * distance.max(1e-9);
+        m.walk = Some(WalkMetrics {
+            distance,
+            final_base_error: (base - planned).xy().norm(),
+            cost_of_transport: m.work / weight,
+            mechanical_cost_of_transport: m.positive_work / weight,
+        });
+    }
     for (k, foot) in m.feet.iter_mut().enumerate() {
         let n = series.foot_fz[k].len().max(1) as f64;
         foot.force_mean = series.foot_fz[k].iter().sum::<f64>() / n;

@@ -43,6 +43,8 @@ pub struct Scenario {
     /// What the controller is asked to do (`corps run`).
     #[serde(default)]
     pub motion: crate::run::MotionSection,
+    /// The documents' figures for this experiment, printed beside ours (`corps run`).
+    pub thesis: Option<crate::run::ThesisFigures>,
 }
 
 /// `[robot]`: the URDF and SRDF, relative to the scenario file. Default: TALOS with box feet.
