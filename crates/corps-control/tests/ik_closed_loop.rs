@@ -345,7 +345,7 @@ fn ik_kinematic_loop_converges() {
     )
     .unwrap();
     let c0 = state.data.com;
-    let target = c0 + Vector3::new(0.001, 0.002, -0.003);
+    let target = c0 + Vector3::new(0.01, 0.02, -0.03);
     ik.enforce_limits = std::env::var("IK_NOLIM").is_err();
     for name in ["com_height", "com_xy"] {
         ik.task_mut(name).unwrap().as_com_mut().unwrap().reference =
