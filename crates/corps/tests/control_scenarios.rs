@@ -175,3 +175,9 @@ fn tsid_position_tracks_a_com_sinusoid() {
 fn ik_position_tracks_a_com_sinusoid() {
     assert_tracks_sinusoid(&run("ik_position_com_sinusoid"));
 }
+
+#[test]
+#[ignore = "the DCM/admittance stabilizer excites a 1–2 Hz sway of the servo-held robot: CoM error peak 35 mm, base drift 11 mm (3.9 mm and 3.4 mm without it)"]
+fn ik_position_with_the_stabilizer_stands() {
+    assert_stands_still(&run("ik_position_stabilized_stand"));
+}

@@ -98,6 +98,34 @@ pub struct ContactGains {
     pub transition: f64,
 }
 
+/// The balance stabilizer of the position-mode controllers (seed 000 Eq 2.30–2.31, gains of
+/// Table 4.3): DCM PI gains, CoM admittance gain, ankle admittance gain (0: off).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct StabilizerGains {
+    pub dcm_kp: f64,
+    pub dcm_ki: f64,
+    pub dcm_kz: f64,
+    pub com_admittance: f64,
+    #[serde(default)]
+    pub ankle_gain: f64,
+}
+
+impl StabilizerGains {
+    pub fn check(&self) -> Result<()> {
+        for (name, x) in [
+            ("stabilizer.dcm_kp", self.dcm_kp),
+            ("stabilizer.dcm_ki", self.dcm_ki),
+            ("stabilizer.dcm_kz", self.dcm_kz),
+            ("stabilizer.com_admittance", self.com_admittance),
+            ("stabilizer.ankle_gain", self.ankle_gain),
+        ] {
+            check_positive(name, x)?;
+        }
+        Ok(())
+    }
+}
+
 /// The inverse-dynamics controllers (torque and position mode).
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -114,6 +142,8 @@ pub struct TsidGains {
     pub actuation_bounds: bool,
     /// Joint damping of the safe command (N·m·s/rad).
     pub safe_damping: f64,
+    /// The balance stabilizer in front of a position-mode controller; absent: none.
+    pub stabilizer: Option<StabilizerGains>,
 }
 
 /// The inverse-kinematics controller: task gains (1/s) of seed 000 Table 4.1's stack.
@@ -125,6 +155,8 @@ pub struct IkGainsFile {
     pub com: f64,
     pub waist: f64,
     pub posture: f64,
+    /// The balance stabilizer in front of the IK; absent: none.
+    pub stabilizer: Option<StabilizerGains>,
 }
 
 /// Reads gains of type `T` from `path`, or from the built-in `default` text when None, with
@@ -203,6 +235,9 @@ impl TsidGains {
         check_positive("contacts.force_regularization", c.force_regularization)?;
         check_positive("contacts.transition", c.transition)?;
         check_positive("safe_damping", self.safe_damping)?;
+        if let Some(s) = &self.stabilizer {
+            s.check()?;
+        }
         if !(c.mu > 0.0 && c.mu.is_finite()) {
             bail!("contacts.mu = {}: must be positive", c.mu);
         }
@@ -254,6 +289,9 @@ impl IkGainsFile {
             ("posture", self.posture),
         ] {
             check_positive(name, x)?;
+        }
+        if let Some(s) = &self.stabilizer {
+            s.check()?;
         }
         Ok(())
     }

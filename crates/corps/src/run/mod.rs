@@ -33,7 +33,9 @@ use crate::sim_cmd::scenario::Scenario;
 use crate::sim_cmd::setup::{self, Setup};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
-use controller::{IkController, TsidController, TsidMode};
+use controller::{IkController, Measured, Stabilized, TsidController, TsidMode};
+use corps_control::stabilizer::Wrench;
+use corps_model::spatial::Se3;
 use corps_model::{center_of_mass, frame_placement, Data, Model};
 use corps_sim::Simulator;
 use motion::MotionPlan;
@@ -238,6 +240,7 @@ pub fn run_scenario(
         sim.add_push(p)?;
     }
     let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
+    let mass = model.total_mass();
     let mut ctrl: Box<dyn WholeBodyController> = match section.kind {
         ControllerKind::TsidTorque | ControllerKind::TsidPosition => {
             let (mode, default) = if section.kind == ControllerKind::TsidTorque {
@@ -245,25 +248,40 @@ pub fn run_scenario(
             } else {
                 (TsidMode::Position, gains::TSID_POSITION)
             };
-            let g = gains::load(
+            let g: gains::TsidGains = gains::load(
                 gains_path.as_deref(),
                 built_in.unwrap_or(default),
                 &section.set,
             )
             .context("controller.gains")?;
-            Box::new(
-                TsidController::new(model.clone(), mode, g, dt, &q, &v, &q0)
-                    .context("controller")?,
-            )
+            let stabilizer = g.stabilizer.clone();
+            let inner = TsidController::new(model.clone(), mode, g, dt, &q, &v, &q0)
+                .context("controller")?;
+            match (mode, stabilizer) {
+                (TsidMode::Torque, Some(_)) => {
+                    bail!("controller.gains: [stabilizer] is for the position-mode controllers")
+                }
+                (TsidMode::Position, Some(s)) => Box::new(
+                    Stabilized::new(inner, &s, mass, dt).context("controller.gains.stabilizer")?,
+                ),
+                _ => Box::new(inner),
+            }
         }
         ControllerKind::IkPosition => {
-            let g = gains::load(
+            let g: gains::IkGainsFile = gains::load(
                 gains_path.as_deref(),
                 built_in.unwrap_or(gains::IK_POSITION),
                 &section.set,
             )
             .context("controller.gains")?;
-            Box::new(IkController::new(model.clone(), g, dt, &q, &q0).context("controller")?)
+            let stabilizer = g.stabilizer.clone();
+            let inner = IkController::new(model.clone(), g, dt, &q, &q0).context("controller")?;
+            match stabilizer {
+                Some(s) => Box::new(
+                    Stabilized::new(inner, &s, mass, dt).context("controller.gains.stabilizer")?,
+                ),
+                None => Box::new(inner),
+            }
         }
     };
 
@@ -314,16 +332,7 @@ pub fn run_scenario(
         let t = tick as f64 * dt;
         plan.sample(t, &mut targets);
         let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
-        let start = Instant::now();
-        let reason = ctrl.tick(t, q.as_slice(), v.as_slice(), &targets);
-        let us = start.elapsed().as_secs_f64() * 1e6;
-        tick_us.push(us);
-        if let Some(r) = reason {
-            m.fallbacks += 1;
-            m.first_fallback
-                .get_or_insert_with(|| format!("t = {t:.3} s: {r}"));
-        }
-        // Measure the state the controller saw, against this tick's targets.
+        // What the sensors tell: CoM (base estimator), soles, contact wrenches (F/T).
         let com = center_of_mass(
             &model,
             &mut data,
@@ -331,11 +340,28 @@ pub fn run_scenario(
             v.as_slice(),
             zeros.as_slice(),
         )?;
-        let feet = [
-            frame_placement(&model, sim.data(), soles[0])?.translation,
-            frame_placement(&model, sim.data(), soles[1])?.translation,
+        let placements = [
+            frame_placement(&model, sim.data(), soles[0])?,
+            frame_placement(&model, sim.data(), soles[1])?,
         ];
-        let contact = measure_contacts(&sim, &foot_joints);
+        let contact = measure_contacts(&sim, &foot_joints, &placements);
+        let measured = Measured {
+            com,
+            com_velocity: data.vcom,
+            zmp: contact.zmp.map(|[x, y]| nalgebra::Vector2::new(x, y)),
+            feet: placements.map(|p| isometry(&p)),
+            foot_wrenches: contact.foot_wrenches,
+        };
+        let start = Instant::now();
+        let reason = ctrl.tick(t, q.as_slice(), v.as_slice(), &targets, &measured);
+        let us = start.elapsed().as_secs_f64() * 1e6;
+        tick_us.push(us);
+        if let Some(r) = reason {
+            m.fallbacks += 1;
+            m.first_fallback
+                .get_or_insert_with(|| format!("t = {t:.3} s: {r}"));
+        }
+        let feet = placements.map(|p| p.translation);
         record(
             &mut m,
             &mut series,
@@ -418,31 +444,44 @@ struct ContactSample {
     plane_z: f64,
     /// Vertical force on each foot (N).
     foot_fz: [f64; 2],
+    /// Each foot's wrench in its sole frame, about the sole origin.
+    foot_wrenches: [Wrench; 2],
     /// Total force on other bodies (N).
     other: f64,
 }
 
 /// ZMP and forces from the simulator's contact points (world frame):
-/// `p = Σ (x_i f_zi − (z_i − z_p) f_xi) / Σ f_zi` (and y alike) on the plane z_p.
-fn measure_contacts(sim: &Simulator, foot_joints: &[usize; 2]) -> ContactSample {
+/// `p = Σ (x_i f_zi − (z_i − z_p) f_xi) / Σ f_zi` (and y alike) on the plane z_p; each foot's
+/// wrench in its sole frame `soles[k]`, about the sole origin.
+fn measure_contacts(sim: &Simulator, foot_joints: &[usize; 2], soles: &[Se3; 2]) -> ContactSample {
     let c = sim.contact();
     let points = sim.contact_points();
     let (mut fz, mut zf) = (0.0, 0.0);
     let mut foot_fz = [0.0; 2];
+    let mut world = [(Vector3::zeros(), Vector3::zeros()); 2];
     let mut other = 0.0;
     for ((f, p), cp) in c.point_forces.iter().zip(&c.point_positions).zip(points) {
         fz += f.z;
         zf += p.z * f.z;
         match foot_joints.iter().position(|j| *j == cp.joint) {
-            Some(k) => foot_fz[k] += f.z,
+            Some(k) => {
+                foot_fz[k] += f.z;
+                world[k].0 += f;
+                world[k].1 += (p - soles[k].translation).cross(f);
+            }
             None => other += f.norm(),
         }
     }
+    let foot_wrenches = [0, 1].map(|k| {
+        let rt = soles[k].rotation.transpose();
+        Wrench::new(rt * world[k].0, rt * world[k].1)
+    });
     if fz < ZMP_MIN_FZ {
         return ContactSample {
             zmp: None,
             plane_z: 0.0,
             foot_fz,
+            foot_wrenches,
             other,
         };
     }
@@ -456,8 +495,18 @@ fn measure_contacts(sim: &Simulator, foot_joints: &[usize; 2]) -> ContactSample 
         zmp: Some([px / fz, py / fz]),
         plane_z,
         foot_fz,
+        foot_wrenches,
         other,
     }
+}
+
+/// An `Se3` as a nalgebra isometry.
+fn isometry(m: &Se3) -> nalgebra::Isometry3<f64> {
+    let r = nalgebra::Rotation3::from_matrix_unchecked(m.rotation);
+    nalgebra::Isometry3::from_parts(
+        nalgebra::Translation3::from(m.translation),
+        nalgebra::UnitQuaternion::from_rotation_matrix(&r),
+    )
 }
 
 /// Mechanical work of the joints over one step: (Σ|τ q̇| dt, Σ max(τ q̇, 0) dt).

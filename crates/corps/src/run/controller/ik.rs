@@ -88,6 +88,7 @@ impl WholeBodyController for IkController {
         _q: &[f64],
         _v: &[f64],
         targets: &Targets,
+        _measured: &super::Measured,
     ) -> Option<FallbackReason> {
         let model = self.model.clone();
         let solved = self

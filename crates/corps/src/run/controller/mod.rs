@@ -4,15 +4,18 @@
 //! - C, `tsid_torque`: TSID's inverse dynamics at the measured state, joint torques.
 
 mod ik;
+mod stabilized;
 mod tsid;
 
 pub use ik::IkController;
+pub use stabilized::Stabilized;
 pub use tsid::{TsidController, TsidMode, TALOS_SOLES, TALOS_WAIST};
 
 use super::motion::Targets;
+use corps_control::stabilizer::Wrench;
 use corps_control::FallbackReason;
 use corps_sim::Command;
-use nalgebra::Vector3;
+use nalgebra::{Isometry3, Vector2, Vector3};
 use serde::Deserialize;
 
 /// `[controller] kind`.
@@ -34,11 +37,32 @@ impl ControllerKind {
     }
 }
 
+/// What the robot's sensors tell the controllers besides (q, v): the quantities a base
+/// estimator and the feet's force/torque sensors give.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Measured {
+    pub com: Vector3<f64>,
+    pub com_velocity: Vector3<f64>,
+    /// ZMP on the contact plane (world x, y); None in the air.
+    pub zmp: Option<Vector2<f64>>,
+    /// Sole frames, left then right.
+    pub feet: [Isometry3<f64>; 2],
+    /// Ground-on-foot wrenches in each sole frame, about its origin.
+    pub foot_wrenches: [Wrench; 2],
+}
+
 /// A whole-body controller in the loop.
 pub trait WholeBodyController {
     /// Computes the joint command at `t` (s since the handover) from the measured state and
     /// the targets. Returns why the safe command was used instead, if it was.
-    fn tick(&mut self, t: f64, q: &[f64], v: &[f64], targets: &Targets) -> Option<FallbackReason>;
+    fn tick(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        targets: &Targets,
+        measured: &Measured,
+    ) -> Option<FallbackReason>;
     /// The command of the last tick.
     fn command(&self) -> &Command;
     /// The CoM of the state the controller works on (measured in torque mode, its own

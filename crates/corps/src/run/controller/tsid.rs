@@ -223,7 +223,14 @@ fn at_rest(placement: corps_model::spatial::Se3) -> Se3Reference {
 }
 
 impl WholeBodyController for TsidController {
-    fn tick(&mut self, t: f64, q: &[f64], v: &[f64], targets: &Targets) -> Option<FallbackReason> {
+    fn tick(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        targets: &Targets,
+        _measured: &super::Measured,
+    ) -> Option<FallbackReason> {
         if let Err(reason) = self.switch_contacts(t, targets) {
             return Some(reason);
         }

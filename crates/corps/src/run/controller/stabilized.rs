@@ -1,0 +1,134 @@
+//! A position-mode controller behind the balance stabilizer, as seed 000's controllers A and B
+//! run (Fig 4.2, §3.4): pattern generator → DCM PI → CoM admittance → whole-body controller.
+//! The stabilizer reads the measured CoM, CoM velocity, ZMP and foot wrenches and rewrites the
+//! CoM target; the feet targets get the ankle admittance's roll/pitch offsets when its gain
+//! is not zero.
+
+use super::{Measured, WholeBodyController};
+use crate::run::gains::StabilizerGains;
+use crate::run::motion::Targets;
+use corps_control::stabilizer::{ContactPhase, Stabilizer, StabilizerInput, StabilizerSettings};
+use corps_control::{ControlError, FallbackReason};
+use corps_sim::Command;
+use nalgebra::{Vector2, Vector3};
+
+pub struct Stabilized<C> {
+    inner: C,
+    stabilizer: Stabilizer,
+    targets: Option<Targets>,
+    ankles: bool,
+    gravity: f64,
+}
+
+impl<C: WholeBodyController> Stabilized<C> {
+    /// `inner` behind a stabilizer with gains `g` for a robot of `mass` kg at period `dt`.
+    pub fn new(inner: C, g: &StabilizerGains, mass: f64, dt: f64) -> anyhow::Result<Self> {
+        let mut s = StabilizerSettings {
+            mass,
+            dt,
+            ..StabilizerSettings::default()
+        };
+        s.dcm.kp = g.dcm_kp;
+        s.dcm.ki = g.dcm_ki;
+        s.dcm.kz = g.dcm_kz;
+        s.com_admittance.gain = g.com_admittance;
+        s.ankle.gain = g.ankle_gain;
+        Ok(Self {
+            inner,
+            gravity: s.gravity,
+            stabilizer: Stabilizer::new(s)?,
+            targets: None,
+            ankles: g.ankle_gain > 0.0,
+        })
+    }
+}
+
+/// The reference ZMP of a CoM reference on the ground under the feet in contact (LIPM,
+/// seed 000 Eq 2.22): `p = c − (c_z − z_ground)/g · c̈`.
+fn reference_zmp(targets: &Targets, gravity: f64) -> Vector2<f64> {
+    let (mut z, mut n) = (0.0, 0.0);
+    for f in &targets.feet {
+        if f.in_contact {
+            z += f.reference.placement.translation.z;
+            n += 1.0;
+        }
+    }
+    let ground = if n > 0.0 { z / n } else { 0.0 };
+    let c = &targets.com;
+    let h = c.pos[2] - ground;
+    Vector2::new(
+        c.pos[0] - h / gravity * c.acc[0],
+        c.pos[1] - h / gravity * c.acc[1],
+    )
+}
+
+impl<C: WholeBodyController> WholeBodyController for Stabilized<C> {
+    fn tick(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        targets: &Targets,
+        measured: &Measured,
+    ) -> Option<FallbackReason> {
+        let phase = match (targets.feet[0].in_contact, targets.feet[1].in_contact) {
+            (true, false) => ContactPhase::LeftSupport,
+            (false, true) => ContactPhase::RightSupport,
+            _ => ContactPhase::Double,
+        };
+        let zmp_ref = reference_zmp(targets, self.gravity);
+        let c = &targets.com;
+        let v3 = |x: &nalgebra::DVector<f64>| Vector3::new(x[0], x[1], x[2]);
+        let input = StabilizerInput {
+            com_ref: v3(&c.pos),
+            com_vel_ref: v3(&c.vel),
+            com_acc_ref: v3(&c.acc),
+            zmp_ref,
+            com: measured.com,
+            com_vel: measured.com_velocity,
+            zmp: measured.zmp.unwrap_or(zmp_ref),
+            feet: measured.feet,
+            foot_wrenches: measured.foot_wrenches,
+            phase,
+        };
+        let out = match self.stabilizer.tick(&input) {
+            Ok(out) => out,
+            Err(e) => {
+                // Track the unstabilized references this tick and say why.
+                let r = self.inner.tick(t, q, v, targets, measured);
+                return r.or(Some(FallbackReason::Controller(e)));
+            }
+        };
+        let stabilized = self.targets.get_or_insert_with(|| targets.clone());
+        stabilized.clone_from(targets);
+        for k in 0..3 {
+            stabilized.com.pos[k] = out.com.pos[k];
+            stabilized.com.vel[k] = out.com.vel[k];
+            stabilized.com.acc[k] = out.com.acc[k];
+        }
+        if self.ankles {
+            for (foot, ankle) in stabilized.feet.iter_mut().zip(&out.ankle) {
+                if foot.in_contact {
+                    let r = ankle.rotation().to_rotation_matrix();
+                    let m = &mut foot.reference.placement;
+                    m.rotation *= r.matrix();
+                }
+            }
+        }
+        let r = self.inner.tick(t, q, v, stabilized, measured);
+        if r.is_none() && !out.com.pos.iter().all(|x| x.is_finite()) {
+            return Some(FallbackReason::Controller(ControlError::NonFinite(
+                "stabilized CoM",
+            )));
+        }
+        r
+    }
+
+    fn command(&self) -> &Command {
+        self.inner.command()
+    }
+
+    fn controller_com(&self) -> Vector3<f64> {
+        self.inner.controller_com()
+    }
+}
