@@ -1,5 +1,5 @@
 //! Contacts: rigid contacts that constrain a frame's motion and add force variables.
 
-mod contact6d;
+mod contact;
 
-pub use contact6d::{Contact6d, FORCE_ROWS, FORCE_VARS};
+pub use contact::{Contact, PYRAMID_ROWS};

@@ -10,10 +10,12 @@
 //!
 //! Torques follow from the actuated rows: `τ = M_a q̈ + h_a − Jc_aᵀ f`.
 
-use crate::contacts::{Contact6d, FORCE_ROWS, FORCE_VARS};
+use crate::contacts::Contact;
 use crate::error::{ControlError, Result};
 use crate::robot_state::RobotState;
-use crate::tasks::{AngularMomentumTask, ComTask, PostureTask, Se3Task, TaskRows};
+use crate::tasks::{
+    AngularMomentumTask, ComTask, ContactForceTask, JointBoundsTask, PostureTask, Se3Task, TaskRows,
+};
 use corps_model::Model;
 use corps_qp::{ActiveSetSolver, QpProblem};
 use nalgebra::{DMatrix, DVector};
@@ -26,7 +28,7 @@ pub const HESSIAN_REGULARIZATION: f64 = 1e-8;
 pub struct IdOutput {
     /// Joint accelerations q̈ (nv).
     pub dv: DVector<f64>,
-    /// Contact forces, 12 per contact, in contact order.
+    /// Contact forces, 3 per contact point, in contact order.
     pub forces: DVector<f64>,
     /// Actuated joint torques (na).
     pub tau: DVector<f64>,
@@ -55,9 +57,13 @@ pub struct InverseDynamics {
     pub angular_momentum: Option<(AngularMomentumTask, f64)>,
     /// Frame tasks in the cost (e.g. a swing foot), with weights.
     pub frames: Vec<(Se3Task, f64)>,
-    pub contacts: Vec<Contact6d>,
+    pub contacts: Vec<Contact>,
     /// Actuation bounds (na each), a hard inequality when set.
     pub actuation: Option<(DVector<f64>, DVector<f64>)>,
+    /// Joint position / velocity / acceleration bounds, as bounds on q̈ when set.
+    pub joint_bounds: Option<JointBoundsTask>,
+    /// Contact-force tasks in the cost, with weights (each names its contact).
+    pub contact_forces: Vec<(ContactForceTask, f64)>,
     first: usize,
     pub problem: QpProblem,
     solver: ActiveSetSolver,
@@ -78,6 +84,8 @@ impl InverseDynamics {
             frames: Vec::new(),
             contacts: Vec::new(),
             actuation: None,
+            joint_bounds: None,
+            contact_forces: Vec::new(),
             first,
             problem: QpProblem::new(model.nv, first, 0),
             solver: ActiveSetSolver::new(model.nv, first, 0),
@@ -102,16 +110,30 @@ impl InverseDynamics {
             })
     }
 
+    /// Offset of contact `k`'s force variables in `output.forces`.
+    fn force_offset(&self, k: usize) -> usize {
+        self.contacts[..k].iter().map(Contact::n_force).sum()
+    }
+
     /// Total normal force of contact `k` in the last solution (N).
     pub fn normal_force(&self, k: usize) -> f64 {
         let c = &self.contacts[k];
-        let f = &self.output.forces;
-        if f.len() < FORCE_VARS * (k + 1) {
-            return 0.0;
+        let (o, n) = (self.force_offset(k), c.n_force());
+        match self.output.forces.as_slice().get(o..o + n) {
+            Some(f) => c.normal_force(f),
+            None => 0.0,
         }
-        (0..4)
-            .map(|i| c.normal.dot(&f.fixed_rows::<3>(FORCE_VARS * k + 3 * i)))
-            .sum()
+    }
+
+    /// Wrench of contact `k` in the last solution ([force; torque] about its frame origin,
+    /// contact frame).
+    pub fn contact_wrench(&self, k: usize) -> nalgebra::Vector6<f64> {
+        let c = &self.contacts[k];
+        let (o, n) = (self.force_offset(k), c.n_force());
+        match self.output.forces.as_slice().get(o..o + n) {
+            Some(f) => c.wrench(f),
+            None => nalgebra::Vector6::zeros(),
+        }
     }
 
     /// Starts removing contact `name` at time `t`: its force goes to zero over `duration` s,
@@ -135,7 +157,7 @@ impl InverseDynamics {
 
     /// Adds `contact` at time `t` with its normal-force bound raised from 0 to its `fmax`
     /// over `duration` s.
-    pub fn add_contact(&mut self, mut contact: Contact6d, t: f64, duration: f64) {
+    pub fn add_contact(&mut self, mut contact: Contact, t: f64, duration: f64) {
         let to = contact.fmax;
         let fmin_end = contact.fmin;
         contact.fmax = 0.0;
@@ -221,10 +243,13 @@ impl InverseDynamics {
 
     /// Problem sizes (variables, equalities, inequalities) for the current contacts.
     pub fn dims(&self, model: &Model) -> (usize, usize, usize) {
-        let nc = self.contacts.len();
         let na = model.nv - self.first;
-        let n_in = FORCE_ROWS * nc + if self.actuation.is_some() { na } else { 0 };
-        (model.nv + FORCE_VARS * nc, self.first + 6 * nc, n_in)
+        let c = &self.contacts;
+        let n_force: usize = c.iter().map(Contact::n_force).sum();
+        let n_motion: usize = c.iter().map(Contact::n_motion).sum();
+        let n_rows: usize = c.iter().map(Contact::n_rows).sum();
+        let n_in = n_rows + if self.actuation.is_some() { na } else { 0 };
+        (model.nv + n_force, self.first + n_motion, n_in)
     }
 
     /// Builds the QP at state `s` into `self.problem` (resizing only when contacts change).
@@ -256,63 +281,75 @@ impl InverseDynamics {
         }
         // Floating-base dynamics rows: [M_u  −Jc_uᵀ] x = −h_u.
         copy_block(&mut p.a, (0, 0), m, (0, 0), (first, nv));
-        for (k, contact) in self.contacts.iter().enumerate() {
-            copy_block_neg_transposed(
-                &mut p.a,
-                (0, nv + FORCE_VARS * k),
-                &contact.jc,
-                (0, 0),
-                (first, FORCE_VARS),
-            );
+        let mut col = nv;
+        for contact in &self.contacts {
+            let nf = contact.n_force();
+            copy_block_neg_transposed(&mut p.a, (0, col), &contact.jc, (0, 0), (first, nf));
+            col += nf;
         }
         for r in 0..first {
             p.b[r] = -h[r];
         }
         // Contact motion rows, friction rows and force regularization.
-        for (k, contact) in self.contacts.iter().enumerate() {
+        let (mut col, mut r_eq, mut r_in) = (nv, first, 0);
+        for contact in &self.contacts {
             let rows = &contact.motion_rows();
-            let r0 = first + 6 * k;
-            copy_block(&mut p.a, (r0, 0), &rows.a, (0, 0), (6, nv));
-            p.b.rows_mut(r0, 6).copy_from(&rows.b);
-            let col = nv + FORCE_VARS * k;
-            contact.force_constraints(&mut p.c, &mut p.l, &mut p.u, FORCE_ROWS * k, col);
-            let t = &contact.t;
-            let w = contact.force_reg_weight;
-            let cw = &contact.force_reg_components;
-            // ‖diag(cw) (T f − f_ref)‖² weighted by w.
-            for i in 0..FORCE_VARS {
-                for j in 0..FORCE_VARS {
-                    let mut acc = 0.0;
-                    for r in 0..6 {
-                        acc += cw[r] * cw[r] * t[(r, i)] * t[(r, j)];
-                    }
-                    p.h[(col + i, col + j)] += w * acc;
+            let nm = contact.n_motion();
+            copy_block(&mut p.a, (r_eq, 0), &rows.a, (0, 0), (nm, nv));
+            p.b.rows_mut(r_eq, nm).copy_from(&rows.b.rows(0, nm));
+            contact.force_constraints(&mut p.c, &mut p.l, &mut p.u, r_in, col);
+            add_wrench_cost(
+                &mut p.h,
+                &mut p.g,
+                col,
+                &contact.t,
+                &contact.force_reg_components,
+                &contact.force_reference,
+                contact.force_reg_weight,
+            );
+            for (task, w) in &self.contact_forces {
+                if task.contact == contact.name {
+                    let ones = nalgebra::Vector6::repeat(1.0);
+                    add_wrench_cost(
+                        &mut p.h,
+                        &mut p.g,
+                        col,
+                        &contact.t,
+                        &ones,
+                        &task.desired,
+                        *w,
+                    );
                 }
-                let mut acc = 0.0;
-                for r in 0..6 {
-                    acc += cw[r] * cw[r] * t[(r, i)] * contact.force_reference[r];
-                }
-                p.g[col + i] -= w * acc;
             }
+            col += contact.n_force();
+            r_eq += nm;
+            r_in += contact.n_rows();
         }
         // Actuation bounds.
         if let Some((lower, upper)) = &self.actuation {
-            let r0 = FORCE_ROWS * self.contacts.len();
+            let r0 = r_in;
             let na = nv - first;
             // [M_a  −Jc_aᵀ] x within [τ_min − h_a, τ_max − h_a].
             copy_block(&mut p.c, (r0, 0), m, (first, 0), (na, nv));
-            for (ci, contact) in self.contacts.iter().enumerate() {
-                copy_block_neg_transposed(
-                    &mut p.c,
-                    (r0, nv + FORCE_VARS * ci),
-                    &contact.jc,
-                    (0, first),
-                    (na, FORCE_VARS),
-                );
+            let mut col = nv;
+            for contact in &self.contacts {
+                let nf = contact.n_force();
+                copy_block_neg_transposed(&mut p.c, (r0, col), &contact.jc, (0, first), (na, nf));
+                col += nf;
             }
             for k in 0..na {
                 p.l[r0 + k] = lower[k] - h[first + k];
                 p.u[r0 + k] = upper[k] - h[first + k];
+            }
+        }
+        // Joint bounds on q̈ (the free-flyer and the forces stay free).
+        p.lx.fill(f64::NEG_INFINITY);
+        p.ux.fill(f64::INFINITY);
+        if let Some(bounds) = &mut self.joint_bounds {
+            bounds.compute(s);
+            for k in 0..bounds.lower.len() {
+                p.lx[first + k] = bounds.lower[k];
+                p.ux[first + k] = bounds.upper[k];
             }
         }
         // Cost terms on q̈.
@@ -355,10 +392,12 @@ impl InverseDynamics {
             for c in 0..nv {
                 t += m[(r, c)] * self.output.dv[c];
             }
-            for (ci, contact) in self.contacts.iter().enumerate() {
-                for j in 0..FORCE_VARS {
-                    t -= contact.jc[(j, r)] * self.output.forces[FORCE_VARS * ci + j];
+            let mut o = 0;
+            for contact in &self.contacts {
+                for j in 0..contact.n_force() {
+                    t -= contact.jc[(j, r)] * self.output.forces[o + j];
                 }
+                o += contact.n_force();
             }
             self.output.tau[k] = t;
         }
@@ -396,6 +435,34 @@ fn add_least_squares(
                 *hij += s * ai;
             }
         }
+    }
+}
+
+/// Adds `w ‖diag(cw) (T f − f_ref)‖²` over the force variables starting at `col` (`T`: the
+/// contact's 6 × n_f wrench generator): a contact's force regularization or force task.
+fn add_wrench_cost(
+    h: &mut DMatrix<f64>,
+    g: &mut DVector<f64>,
+    col: usize,
+    t: &DMatrix<f64>,
+    cw: &nalgebra::Vector6<f64>,
+    f_ref: &nalgebra::Vector6<f64>,
+    w: f64,
+) {
+    let nf = t.ncols();
+    for i in 0..nf {
+        for j in 0..nf {
+            let mut acc = 0.0;
+            for r in 0..6 {
+                acc += cw[r] * cw[r] * t[(r, i)] * t[(r, j)];
+            }
+            h[(col + i, col + j)] += w * acc;
+        }
+        let mut acc = 0.0;
+        for r in 0..6 {
+            acc += cw[r] * cw[r] * t[(r, i)] * f_ref[r];
+        }
+        g[col + i] -= w * acc;
     }
 }
 

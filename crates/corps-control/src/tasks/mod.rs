@@ -5,12 +5,16 @@
 
 mod angular_momentum;
 mod com;
+mod contact_force;
+mod joint_bounds;
 mod posture;
 mod se3;
 pub mod velocity;
 
 pub use angular_momentum::AngularMomentumTask;
 pub use com::ComTask;
+pub use contact_force::ContactForceTask;
+pub use joint_bounds::JointBoundsTask;
 pub use posture::PostureTask;
 pub use se3::{se3_error, Se3Reference, Se3Task};
 

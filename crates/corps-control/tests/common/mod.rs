@@ -5,7 +5,7 @@
 //! μ 0.3 and 1 ≤ Σfz ≤ 1000 N as in the TSID anchor harness.
 #![allow(dead_code)]
 
-use corps_control::contacts::Contact6d;
+use corps_control::contacts::Contact;
 use corps_control::formulation::InverseDynamics;
 use corps_control::tasks::{AngularMomentumTask, ComTask, PostureTask, Reference, Se3Reference};
 use corps_control::RobotState;
@@ -99,7 +99,7 @@ pub fn standing_controller(
             velocity: Motion::zero(),
             acceleration: Motion::zero(),
         };
-        id.contacts.push(Contact6d::new(
+        id.contacts.push(Contact::new(
             model,
             frame,
             fid,

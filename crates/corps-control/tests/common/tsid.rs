@@ -3,7 +3,7 @@
 //! test and the tick benchmark.
 #![allow(dead_code)]
 
-use corps_control::contacts::Contact6d;
+use corps_control::contacts::Contact;
 use corps_control::formulation::InverseDynamics;
 use corps_control::tasks::{AngularMomentumTask, ComTask, PostureTask, Reference, Se3Reference};
 use corps_model::spatial::{Motion, Se3};
@@ -76,7 +76,7 @@ pub fn configure(model: &Model, tick: &Value) -> InverseDynamics {
             velocity: Motion::from_slice(&vecf(&r["vel"])),
             acceleration: Motion::from_slice(&vecf(&r["acc"])),
         };
-        let mut contact = Contact6d::new(
+        let mut contact = Contact::new(
             model,
             &format!("c_{}", c["frame"].as_str().unwrap()),
             frame,

@@ -7,7 +7,7 @@ use super::WholeBodyController;
 use crate::run::gains::TsidGains;
 use crate::run::motion::Targets;
 use anyhow::Result;
-use corps_control::contacts::Contact6d;
+use corps_control::contacts::Contact;
 use corps_control::formulation::InverseDynamics;
 use corps_control::tasks::{AngularMomentumTask, ComTask, PostureTask, Se3Reference, Se3Task};
 use corps_control::{FallbackReason, RobotState};
@@ -36,7 +36,7 @@ pub enum TsidMode {
 /// One foot: its contact (a template re-added at each touch-down) and whether it is active.
 struct Foot {
     frame: usize,
-    contact: Contact6d,
+    contact: Contact,
     in_contact: bool,
 }
 
@@ -105,7 +105,7 @@ impl TsidController {
         let mut feet = Vec::with_capacity(2);
         for name in TALOS_SOLES {
             let frame = model.frame_id(name)?;
-            let mut contact = Contact6d::new(
+            let mut contact = Contact::new(
                 &model,
                 name,
                 frame,
