@@ -17,6 +17,15 @@
 //! α/2 Σ‖ċ_i − R(θ_i) v_cmd‖² + β/2 Σ‖z_i − z_centre,i(F)‖² + γ/2 Σ‖j_i‖²
 //! ```
 //!
+//! with one change to the velocity term while walking: `ċ_i` is the CoM displacement over the
+//! window `W = 1.2 s` (one step) ending at sample i, `(c(τ_i) − c(τ_i − W)) / W`, past CoM
+//! positions taken from a ring of grid-point samples ([`MpcParams::velocity_window`]). With a
+//! 1.0 s single support (ω T_SS ≈ 3.3) the instantaneous CoM speed of a periodic gait swings
+//! between about 0.5× and 1.7× its mean, and the per-sample least-squares fit of the
+//! instantaneous velocity over a 1.6 s horizon settles on gaits slower than the command
+//! (measured 0.076 m/s for 0.1 m/s; 0.0004 m/s for 0.05 m/s sideways). The displacement over
+//! one step is exactly the mean speed for a periodic sagittal motion.
+//!
 //! where `z_centre` is the support foot's centre in single support and moves linearly from the
 //! previous to the next support foot in double support. Constraints:
 //! - ZMP at every sample (and at the end of the current 5 ms tick) inside the foot rectangle
@@ -99,6 +108,13 @@ pub struct MpcParams {
     /// 0.2 s transfer (starting 8 cm off the support foot it would diverge by
     /// 0.032 · cosh(ω · 1.0 s) ≈ 0.45 m during the swing).
     pub start_double_support: f64,
+    /// Window `W` of the velocity cost (s), a multiple of the sample period, or 0. With
+    /// `W > 0`, while walking the cost compares the CoM displacement over the window ending
+    /// at each sample, `(c(τ_i) − c(τ_i − W)) / W`, with the commanded velocity (the part of
+    /// the window before now uses the CoM recorded at past grid points); with `W = 0` it
+    /// compares the instantaneous CoM velocity `ċ(τ_i)`, as written in seed 002 eq. 9.
+    /// Standing and stopping always use the instantaneous velocity (command zero).
+    pub velocity_window: f64,
 }
 
 impl Default for MpcParams {
@@ -134,6 +150,7 @@ impl Default for MpcParams {
             freeze_time: 0.1,
             swing_height: 0.05,
             start_double_support: 1.2,
+            velocity_window: 1.2,
         }
     }
 }
@@ -225,6 +242,15 @@ pub struct WalkingMpc {
     pz_u: DMatrix<f64>,
     pv_s: DMatrix<f64>,
     pv_u: DMatrix<f64>,
+    /// Velocity-cost rows: `pw_u U + pw_k` is the (instantaneous or windowed) CoM velocity
+    /// of sample i, per axis (columns of `pw_k`: x, y); `pw_ref` the reference.
+    pw_u: DMatrix<f64>,
+    pw_k: DMatrix<f64>,
+    pw_ref: DMatrix<f64>,
+    /// CoM positions at the last `hist.len()` grid points (ring buffer, newest at `hist_head`).
+    hist: Vec<Vector2<f64>>,
+    hist_head: usize,
+    on_grid: bool,
     pp_s: DMatrix<f64>,
     pp_u: DMatrix<f64>,
     pa_s: DMatrix<f64>,
@@ -289,6 +315,15 @@ impl WalkingMpc {
                 "horizon too long for 2 previewed footsteps (need N T ≤ 2 SS + DS)",
             ));
         }
+        let w = params.velocity_window;
+        let wm = (w / params.sample_period).round();
+        if !(w.is_finite() && w >= 0.0)
+            || (w > 0.0 && (wm < 1.0 || (w / params.sample_period - wm).abs() > 1e-9))
+        {
+            return Err(WalkError::InvalidParameter(
+                "velocity window must be 0 or a positive multiple of the sample period",
+            ));
+        }
         let r = &params.reachable;
         if !(r.x_min < r.x_max && 0.0 < r.y_min && r.y_min < r.y_max) {
             return Err(WalkError::InvalidParameter(
@@ -307,6 +342,12 @@ impl WalkingMpc {
             pz_u: DMatrix::zeros(n, n),
             pv_s: DMatrix::zeros(n, 3),
             pv_u: DMatrix::zeros(n, n),
+            pw_u: DMatrix::zeros(n, n),
+            pw_k: DMatrix::zeros(n, 2),
+            pw_ref: DMatrix::zeros(n, 2),
+            hist: vec![mid; (wm as usize).max(1)],
+            hist_head: 0,
+            on_grid: false,
             pp_s: DMatrix::zeros(n, 3),
             pp_u: DMatrix::zeros(n, n),
             pa_s: DMatrix::zeros(n, 3),
@@ -492,6 +533,9 @@ impl WalkingMpc {
                     };
                     self.t_in_step = 0.0;
                     self.frozen = None;
+                    // the step grid restarts here: the window's past is the CoM at rest
+                    let c = Vector2::new(self.com_x[0], self.com_y[0]);
+                    self.hist.fill(c);
                 }
             }
             Gait::Walking { step, stop, .. } => match (*stop, moving) {
@@ -652,6 +696,11 @@ impl WalkingMpc {
         self.cmd = cmd;
         self.handle_command();
         self.build_predictions();
+        if self.on_grid {
+            self.hist_head = (self.hist_head + 1) % self.hist.len();
+            self.hist[self.hist_head] = Vector2::new(self.com_x[0], self.com_y[0]);
+        }
+        self.build_velocity_rows();
         self.plan_footstep_yaws();
         self.build_qp();
         let sol = self.solver.solve(&self.qp)?;
@@ -672,11 +721,8 @@ impl WalkingMpc {
     fn build_predictions(&mut self) {
         let (n, t) = (self.n, self.p.sample_period);
         let rem = self.t_in_step % t;
-        let tau1 = if t - rem < 1e-9 || rem < 1e-9 {
-            t
-        } else {
-            t - rem
-        };
+        self.on_grid = t - rem < 1e-9 || rem < 1e-9;
+        let tau1 = if self.on_grid { t } else { t - rem };
         let h = self.p.lipm.com_height / self.p.lipm.gravity;
         let (a1, b1) = jerk_integrator(tau1);
         let (at, bt) = jerk_integrator(t);
@@ -712,6 +758,65 @@ impl WalkingMpc {
             self.supports[i] = self.support_at(self.tau[i]);
         }
         self.supports[n] = self.support_at(self.p.control_period);
+    }
+
+    /// Rows of the velocity cost (see [`MpcParams::velocity_window`]) and their reference.
+    fn build_velocity_rows(&mut self) {
+        let (n, t) = (self.n, self.p.sample_period);
+        let walking = matches!(self.gait, Gait::Walking { stop: None, .. });
+        let (v, om) = if walking {
+            (Vector2::new(self.cmd.vx, self.cmd.vy), self.cmd.yaw_rate)
+        } else {
+            (Vector2::zeros(), 0.0)
+        };
+        let x0 = [self.com_x, self.com_y];
+        if !walking || self.p.velocity_window <= 0.0 {
+            self.pw_u.copy_from(&self.pv_u);
+            for i in 0..n {
+                let r = rotation(self.yaw_ref + om * self.tau[i]) * v;
+                for ax in 0..2 {
+                    self.pw_k[(i, ax)] = row3(&self.pv_s, i).dot(&x0[ax]);
+                    self.pw_ref[(i, ax)] = r[ax];
+                }
+            }
+            return;
+        }
+        let m = self.hist.len();
+        let w = m as f64 * t;
+        // mean of R(ψ) v over the window for a yaw ψ moving at the commanded rate:
+        // R(ψ_mid) v · sin(ω W / 2) / (ω W / 2)
+        let half = 0.5 * om * w;
+        let sinc = if half.abs() < 1e-8 {
+            1.0
+        } else {
+            half.sin() / half
+        };
+        for i in 0..n {
+            // τ_i − W is the sample i − m, or the grid point m − i before the first sample
+            for a in 0..n {
+                let mut d = self.pp_u[(i, a)];
+                if i >= m {
+                    d -= self.pp_u[(i - m, a)];
+                }
+                self.pw_u[(i, a)] = d / w;
+            }
+            let past = if i >= m {
+                None
+            } else {
+                let k = m - i; // 1 = newest
+                Some(self.hist[(self.hist_head + m + 1 - k) % m])
+            };
+            let r = rotation(self.yaw_ref + om * (self.tau[i] - 0.5 * w)) * v * sinc;
+            for ax in 0..2 {
+                let now = row3(&self.pp_s, i).dot(&x0[ax]);
+                let before = match past {
+                    Some(c) => c[ax],
+                    None => row3(&self.pp_s, i - m).dot(&x0[ax]),
+                };
+                self.pw_k[(i, ax)] = (now - before) / w;
+                self.pw_ref[(i, ax)] = r[ax];
+            }
+        }
     }
 
     /// Landing yaws from the yaw-rate command (Herdt 2010 computes orientations first).
@@ -782,7 +887,7 @@ impl WalkingMpc {
             for b in 0..=a {
                 let mut s = 0.0;
                 for i in 0..n {
-                    s += alpha * self.pv_u[(i, a)] * self.pv_u[(i, b)]
+                    s += alpha * self.pw_u[(i, a)] * self.pw_u[(i, b)]
                         + beta * self.pz_u[(i, a)] * self.pz_u[(i, b)];
                 }
                 if a == b {
@@ -794,23 +899,16 @@ impl WalkingMpc {
                 }
             }
         }
-        let walking = matches!(self.gait, Gait::Walking { stop: None, .. });
-        let (vx, vy, om) = if walking {
-            (self.cmd.vx, self.cmd.vy, self.cmd.yaw_rate)
-        } else {
-            (0.0, 0.0, 0.0)
-        };
         let x0 = [self.com_x, self.com_y];
         for i in 0..n {
             let sup = self.supports[i];
-            let vref = rotation(self.yaw_ref + om * self.tau[i]) * Vector2::new(vx, vy);
-            for ax in 0..2 {
+            for (ax, x0a) in x0.iter().enumerate() {
                 let (ou, of) = if ax == 0 { (0, fx) } else { (n, fy) };
                 let fc = sup.w[0] * coord(&fixed[0], ax) + sup.w[1] * coord(&fixed[1], ax);
-                let d = row3(&self.pz_s, i).dot(&x0[ax]) - fc;
-                let dv = row3(&self.pv_s, i).dot(&x0[ax]) - vref[ax];
+                let d = row3(&self.pz_s, i).dot(x0a) - fc;
+                let dv = self.pw_k[(i, ax)] - self.pw_ref[(i, ax)];
                 for a in 0..n {
-                    qp.g[ou + a] += beta * self.pz_u[(i, a)] * d + alpha * self.pv_u[(i, a)] * dv;
+                    qp.g[ou + a] += beta * self.pz_u[(i, a)] * d + alpha * self.pw_u[(i, a)] * dv;
                 }
                 for j in 0..nf {
                     let wj = sup.w[2 + j];
