@@ -113,6 +113,12 @@ fn tsid_torque_tracks_a_com_sinusoid() {
 }
 
 #[test]
+fn tsid_torque_follows_a_com_trajectory_from_a_file() {
+    // Same bound as the sinusoid: a slow CoM motion tracked within 5 mm.
+    assert_tracks_sinusoid(&run("tsid_torque_com_file"));
+}
+
+#[test]
 fn tsid_torque_squats() {
     assert_squats(&run("tsid_torque_squat"));
 }

@@ -304,7 +304,14 @@ pub fn run_scenario(
         frame_placement(&model, sim.data(), soles[1])?,
     ];
     let ticks = (scenario.duration / dt).round() as usize;
-    let plan = MotionPlan::new(scenario.motion.clone(), com0, feet0, dt, scenario.duration)?;
+    let plan = MotionPlan::new(
+        scenario.motion.clone(),
+        com0,
+        feet0,
+        dt,
+        scenario.duration,
+        base_dir,
+    )?;
     let mut targets = plan.initial_targets();
     let mut m = Metrics {
         scenario: name.to_string(),

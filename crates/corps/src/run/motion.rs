@@ -3,8 +3,9 @@
 //! controller takes over; positions are relative to the robot's pose at that moment.
 
 use super::walk::{WalkMotion, WalkSection};
+use anyhow::Context;
 use corps_control::tasks::{Reference, Se3Reference};
-use corps_control::trajectories::{MinJerk, Sinusoid};
+use corps_control::trajectories::{MinJerk, Sampled, Sinusoid};
 use corps_model::spatial::{Motion, Se3};
 use nalgebra::{DVector, Vector3};
 use serde::Deserialize;
@@ -60,6 +61,9 @@ pub enum MotionSection {
     },
     /// Walk a footstep plan (straight, or stairs with `step_height`) with preview control.
     Walk(WalkSection),
+    /// CoM displacement from the start read from a CSV file, rows `t, dx, dy, dz` (a natural
+    /// cubic spline through them); `path` is relative to the scenario file.
+    ComFile { path: std::path::PathBuf },
 }
 
 fn one_second() -> f64 {
@@ -88,6 +92,7 @@ impl MotionSection {
         match self {
             MotionSection::Stand => Ok(()),
             MotionSection::Walk(w) => w.check(),
+            MotionSection::ComFile { .. } => Ok(()),
             MotionSection::ComSinusoid {
                 amplitude,
                 frequency,
@@ -146,17 +151,37 @@ pub struct MotionPlan {
     com0: Vector3<f64>,
     feet0: [Se3; 2],
     walk: Option<WalkMotion>,
+    com_file: Option<Sampled>,
 }
 
 impl MotionPlan {
-    /// The motion for a run of `duration` s at control period `dt`.
+    /// The motion for a run of `duration` s at control period `dt`; files are read relative
+    /// to `base_dir`.
     pub fn new(
         section: MotionSection,
         com0: Vector3<f64>,
         feet0: [Se3; 2],
         dt: f64,
         duration: f64,
+        base_dir: &std::path::Path,
     ) -> anyhow::Result<Self> {
+        let com_file = match &section {
+            MotionSection::ComFile { path } => {
+                let path = base_dir.join(path);
+                let text = std::fs::read_to_string(&path)
+                    .with_context(|| format!("motion.path: reading {}", path.display()))?;
+                let s = Sampled::from_csv(&text)
+                    .with_context(|| format!("motion.path: {}", path.display()))?;
+                if s.sample(0.0).pos.len() != 3 {
+                    anyhow::bail!(
+                        "motion.path: {}: rows must be `t, dx, dy, dz`",
+                        path.display()
+                    );
+                }
+                Some(s)
+            }
+            _ => None,
+        };
         let walk = match &section {
             MotionSection::Walk(w) => {
                 let sole_z = (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
@@ -169,6 +194,7 @@ impl MotionPlan {
             com0,
             feet0,
             walk,
+            com_file,
         })
     }
 
@@ -201,6 +227,16 @@ impl MotionPlan {
             MotionSection::Walk(_) => {
                 if let Some(w) = &self.walk {
                     w.sample(t, out);
+                }
+            }
+            MotionSection::ComFile { .. } => {
+                if let Some(f) = &self.com_file {
+                    let r = f.sample(t);
+                    out.com = Reference {
+                        pos: &c0 + r.pos,
+                        vel: r.vel,
+                        acc: r.acc,
+                    };
                 }
             }
             MotionSection::ComSinusoid {
@@ -301,6 +337,7 @@ mod tests {
             [foot(0.1), foot(-0.1)],
             1e-3,
             10.0,
+            std::path::Path::new("."),
         )
         .unwrap()
     }
