@@ -8,23 +8,12 @@
 #[path = "../tests/common/tsid.rs"]
 mod tsid;
 use corps_control::RobotState;
-use corps_model::{build_model_from_urdf_file, RootJoint};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use tsid::*;
 
 fn bench(c: &mut Criterion) {
-    let model = build_model_from_urdf_file(
-        repo("robots/talos_data/robots/talos_reduced.urdf"),
-        RootJoint::FreeFlyer,
-    )
-    .expect("TALOS");
-    let ticks = ticks();
-    let states: Vec<(Vec<f64>, Vec<f64>)> = ticks
-        .iter()
-        .map(|t| (vecf(&t["q"]), vecf(&t["v"])))
-        .collect();
-    let mut id = configure(&model, &ticks[0]);
+    let (model, mut id, states) = anchor_problem();
     let mut state = RobotState::new(&model);
     let mut g = c.benchmark_group("talos_id_tick");
     let mut k = 0usize;

@@ -4,7 +4,6 @@
 #[path = "common/tsid.rs"]
 mod tsid;
 use corps_control::RobotState;
-use corps_model::{build_model_from_urdf_file, RootJoint};
 use nalgebra::DVector;
 use tsid::*;
 
@@ -15,17 +14,7 @@ static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn a_control_tick_does_not_allocate() {
-    let model = build_model_from_urdf_file(
-        repo("robots/talos_data/robots/talos_reduced.urdf"),
-        RootJoint::FreeFlyer,
-    )
-    .unwrap();
-    let ticks = ticks();
-    let states: Vec<(Vec<f64>, Vec<f64>)> = ticks
-        .iter()
-        .map(|t| (vecf(&t["q"]), vecf(&t["v"])))
-        .collect();
-    let mut id = configure(&model, &ticks[0]);
+    let (model, mut id, states) = anchor_problem();
     let mut state = RobotState::new(&model);
     let mut tau = DVector::zeros(model.nv - 6);
     // First tick sizes the QP.

@@ -107,3 +107,24 @@ pub fn ticks() -> Vec<Value> {
     let v: Value = serde_json::from_str(&text).unwrap();
     v["ticks"].as_array().unwrap().clone()
 }
+
+/// Recorded states (q, v).
+pub type States = Vec<(Vec<f64>, Vec<f64>)>;
+
+/// TSID's TALOS anchor problem: the model (`talos_reduced.urdf`, free-flyer), the controller
+/// configured as at the first recorded tick, and the 25 recorded states (q, v).
+#[allow(dead_code)]
+pub fn anchor_problem() -> (Model, InverseDynamics, States) {
+    let model = corps_model::build_model_from_urdf_file(
+        repo("robots/talos_data/robots/talos_reduced.urdf"),
+        corps_model::RootJoint::FreeFlyer,
+    )
+    .expect("TALOS");
+    let ticks = ticks();
+    let states = ticks
+        .iter()
+        .map(|t| (vecf(&t["q"]), vecf(&t["v"])))
+        .collect();
+    let id = configure(&model, &ticks[0]);
+    (model, id, states)
+}
