@@ -80,3 +80,13 @@ fn tsid_torque_climbs_six_stairs() {
 fn tsid_torque_walks_six_60_cm_steps() {
     walk("tsid_torque_60cm");
 }
+
+#[test]
+fn tsid_torque_walks_by_velocity_commands_forward_sideways_backward() {
+    walk("tsid_torque_velocity");
+}
+
+#[test]
+fn tsid_torque_walks_while_turning() {
+    walk("tsid_torque_turning");
+}

@@ -2,7 +2,7 @@
 //! [`Targets`] (a CoM reference and one target per foot). Times count from the moment the
 //! controller takes over; positions are relative to the robot's pose at that moment.
 
-use super::walk::{WalkMotion, WalkSection};
+use super::walk::{VelocitySection, WalkMotion, WalkSection};
 use anyhow::Context;
 use corps_control::tasks::{Reference, Se3Reference};
 use corps_control::trajectories::{MinJerk, Sampled, Sinusoid};
@@ -61,6 +61,8 @@ pub enum MotionSection {
     },
     /// Walk a footstep plan (straight, or stairs with `step_height`) with preview control.
     Walk(WalkSection),
+    /// Walk by velocity commands through the MPC pattern generator.
+    Velocity(VelocitySection),
     /// CoM displacement from the start read from a CSV file, rows `t, dx, dy, dz` (a natural
     /// cubic spline through them); `path` is relative to the scenario file.
     ComFile { path: std::path::PathBuf },
@@ -92,6 +94,7 @@ impl MotionSection {
         match self {
             MotionSection::Stand => Ok(()),
             MotionSection::Walk(w) => w.check(),
+            MotionSection::Velocity(v) => v.check(),
             MotionSection::ComFile { .. } => Ok(()),
             MotionSection::ComSinusoid {
                 amplitude,
@@ -143,6 +146,9 @@ pub struct Targets {
     pub com: Reference,
     /// Left and right soles.
     pub feet: [FootTarget; 2],
+    /// Waist (base) yaw about the world z axis, relative to its start (walks: the mean of
+    /// the feet yaws, seed 002 §4.13).
+    pub waist_yaw: f64,
 }
 
 /// A motion anchored at the robot's CoM and soles when the controller takes over.
@@ -187,6 +193,16 @@ impl MotionPlan {
                 let sole_z = (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
                 Some(WalkMotion::new(w, &feet0, com0.z - sole_z, dt, duration)?)
             }
+            MotionSection::Velocity(v) => {
+                let sole_z = (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
+                Some(WalkMotion::velocity(
+                    v,
+                    &feet0,
+                    com0.z - sole_z,
+                    dt,
+                    duration,
+                )?)
+            }
             _ => None,
         };
         Ok(Self {
@@ -216,6 +232,7 @@ impl MotionPlan {
         Targets {
             com: Reference::constant(DVector::from_column_slice(self.com0.as_slice())),
             feet: [foot(self.feet0[0]), foot(self.feet0[1])],
+            waist_yaw: 0.0,
         }
     }
 
@@ -224,7 +241,7 @@ impl MotionPlan {
         let c0 = DVector::from_column_slice(self.com0.as_slice());
         match &self.section {
             MotionSection::Stand => {}
-            MotionSection::Walk(_) => {
+            MotionSection::Walk(_) | MotionSection::Velocity(_) => {
                 if let Some(w) = &self.walk {
                     w.sample(t, out);
                 }

@@ -1,11 +1,16 @@
-//! The walking motion of a run: a footstep plan (corps-walk) turned by Kajita's preview
-//! control into CoM, ZMP and feet references, sampled at the control period, anchored at the
-//! robot's soles at the handover (plan x/y origin = the soles' midpoint, plan z = 0 = the
-//! soles' height, feet yaw relative to their starting orientation).
+//! The walking motions of a run, sampled at the control period and anchored at the robot's
+//! soles at the handover (plan x/y origin = the soles' midpoint, plan z = 0 = the soles'
+//! height, feet yaw relative to their starting orientation):
+//! - a footstep plan (corps-walk) turned by Kajita's preview control into CoM, ZMP and feet
+//!   references ([`WalkSection`]);
+//! - velocity commands (v_x, v_y, ω) that change at given times, turned into footsteps and CoM
+//!   by the velocity-driven MPC of seed 002 §4.4, re-planned every control period
+//!   ([`VelocitySection`]).
 
 use super::motion::{FootTarget, Side, Targets};
 use anyhow::{Context, Result};
 use corps_model::spatial::{Motion, Se3};
+use corps_walk::mpc::{MpcParams, VelocityCommand, WalkingMpc};
 use corps_walk::preview_control::PreviewParams;
 use corps_walk::preview_walk::PreviewWalk;
 use corps_walk::{Foot, FootPose, FootVelocity, FootstepPlan, Lipm, StepTiming, WalkingReference};
@@ -77,6 +82,60 @@ impl WalkSection {
     }
 }
 
+/// A velocity command from time `t` on (robot frame, REP-103: +y left, +ω counter-clockwise).
+#[derive(Clone, Debug, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CommandAt {
+    pub t: f64,
+    pub vx: f64,
+    #[serde(default)]
+    pub vy: f64,
+    #[serde(default)]
+    pub yaw_rate: f64,
+}
+
+/// `[motion] kind = "velocity"`: velocity commands through the MPC pattern generator, with
+/// seed 002's timing (single support 1.0 s, double support 0.2 s).
+#[derive(Clone, Debug, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VelocitySection {
+    /// `[[motion.commands]]`, in time order; before the first, and after a zero command, the
+    /// robot stands.
+    pub commands: Vec<CommandAt>,
+    /// Early contact release before lift-off (s); default: the double support.
+    pub release: Option<f64>,
+}
+
+impl VelocitySection {
+    pub fn check(&self) -> Result<(), String> {
+        let mut last = f64::NEG_INFINITY;
+        for (k, c) in self.commands.iter().enumerate() {
+            if ![c.t, c.vx, c.vy, c.yaw_rate].iter().all(|x| x.is_finite()) || c.t < last {
+                return Err(format!(
+                    "motion.commands[{k}]: values must be finite and times non-decreasing"
+                ));
+            }
+            last = c.t;
+        }
+        if let Some(r) = self.release {
+            if !(r >= 0.0 && r.is_finite()) {
+                return Err("motion.release: must be ≥ 0".into());
+            }
+        }
+        Ok(())
+    }
+
+    /// The command in force at `t`.
+    fn at(&self, t: f64) -> VelocityCommand {
+        self.commands
+            .iter()
+            .rev()
+            .find(|c| c.t <= t)
+            .map(|c| VelocityCommand::new(c.vx, c.vy, c.yaw_rate))
+            .unwrap_or_default()
+    }
+}
+
 /// The walk, sampled once per control period for the whole run.
 pub struct WalkMotion {
     samples: Vec<WalkingReference>,
@@ -100,7 +159,6 @@ impl WalkMotion {
         duration: f64,
     ) -> Result<Self> {
         let (l, r) = (feet0[0].translation, feet0[1].translation);
-        let origin = (l + r) / 2.0;
         let feet_distance = (l - r).xy().norm();
         let first = match w.first {
             Side::Left => Foot::Left,
@@ -129,6 +187,49 @@ impl WalkMotion {
             samples.push(walk.step().context("motion: preview control")?);
         }
         let release = w.release.unwrap_or(w.double_support);
+        Ok(Self::from_samples(samples, release, dt, feet0, lead_time))
+    }
+
+    /// Runs the MPC on the commands of `v` for `duration` s, re-planning every `dt`, from the
+    /// soles `feet0` with the CoM at height `com_height` above them.
+    pub fn velocity(
+        v: &VelocitySection,
+        feet0: &[Se3; 2],
+        com_height: f64,
+        dt: f64,
+        duration: f64,
+    ) -> Result<Self> {
+        let params = MpcParams {
+            lipm: Lipm::new(com_height, 9.81).context("motion: LIPM")?,
+            control_period: dt,
+            feet_distance: (feet0[0].translation - feet0[1].translation).xy().norm(),
+            ..MpcParams::default()
+        };
+        let release = v.release.unwrap_or(params.double_support);
+        let mut mpc = WalkingMpc::new(params, 0.0, 0.0, 0.0).context("motion: MPC")?;
+        let n = (duration / dt).round() as usize + 1;
+        let mut samples = Vec::with_capacity(n);
+        samples.push(mpc.reference());
+        for k in 1..n {
+            let t = (k - 1) as f64 * dt;
+            let r = mpc
+                .tick(v.at(t))
+                .with_context(|| format!("motion: MPC at t = {t:.3} s"))?;
+            samples.push(r);
+        }
+        Ok(Self::from_samples(samples, release, dt, feet0, 0.0))
+    }
+
+    /// The motion from references sampled every `dt` from the handover.
+    fn from_samples(
+        samples: Vec<WalkingReference>,
+        release: f64,
+        dt: f64,
+        feet0: &[Se3; 2],
+        lead_time: f64,
+    ) -> Self {
+        let n = samples.len();
+        let origin = (feet0[0].translation + feet0[1].translation) / 2.0;
         let lead = (release / dt).round() as usize;
         let contact = (0..n)
             .map(|i| {
@@ -140,14 +241,14 @@ impl WalkMotion {
                 ]
             })
             .collect();
-        Ok(Self {
+        Self {
             samples,
             contact,
             dt,
             origin,
             feet_rotation0: [feet0[0].rotation, feet0[1].rotation],
             lead_time,
-        })
+        }
     }
 
     /// The planned CoM and feet at the end of the run (world).
@@ -175,6 +276,7 @@ impl WalkMotion {
             (&r.left_foot, &r.left_foot_vel, &prev.left_foot_vel),
             (&r.right_foot, &r.right_foot_vel, &prev.right_foot_vel),
         ];
+        out.waist_yaw = r.waist_yaw;
         for (k, (pose, vel, prev_vel)) in feet.into_iter().enumerate() {
             write_foot(
                 &mut out.feet[k],

@@ -25,6 +25,8 @@ pub struct IkController {
     q_des: DVector<f64>,
     v_des: DVector<f64>,
     command: Command,
+    /// The waist's starting orientation (the waist task turns it by the target yaw).
+    waist_rotation0: nalgebra::Matrix3<f64>,
 }
 
 impl IkController {
@@ -52,6 +54,9 @@ impl IkController {
             posture: gains.posture,
         };
         let ik = InverseKinematics::standing_stack(&model, &state, dt, &frames, &g, q_posture)?;
+        let waist_rotation0 = state
+            .frame_placement(&model, model.frame_id(TALOS_WAIST)?)?
+            .rotation;
         let na = model.nv - 6;
         Ok(Self {
             ik,
@@ -62,6 +67,7 @@ impl IkController {
                 q_ref: q.clone(),
                 v_ref: DVector::zeros(na),
             },
+            waist_rotation0,
             model,
         })
     }
@@ -71,6 +77,10 @@ impl IkController {
             if let Some(task) = self.ik.task_mut(name)?.as_com_mut() {
                 task.reference.clone_from(&targets.com);
             }
+        }
+        if let Some(task) = self.ik.task_mut("waist")?.as_frame_mut() {
+            let yaw = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), targets.waist_yaw);
+            task.reference.placement.rotation = yaw.matrix() * self.waist_rotation0;
         }
         for (name, foot) in FEET_TASKS.iter().zip(&targets.feet) {
             if let Some(task) = self.ik.task_mut(name)?.as_frame_mut() {

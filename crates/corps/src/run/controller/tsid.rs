@@ -47,6 +47,9 @@ pub struct TsidController {
     id: InverseDynamics,
     state: RobotState,
     feet: [Foot; 2],
+    /// Index of the waist orientation task in `id.frames`, and its starting orientation.
+    waist: Option<usize>,
+    waist_rotation0: nalgebra::Matrix3<f64>,
     gains: TsidGains,
     /// Position mode: the integrated state.
     q_int: DVector<f64>,
@@ -88,6 +91,7 @@ impl TsidController {
             AngularMomentumTask::new(nv, Vector3::repeat(g.angular_momentum.kp)),
             g.angular_momentum.weight,
         ));
+        let (mut waist, mut waist_rotation0) = (None, nalgebra::Matrix3::identity());
         if let Some(w) = &g.waist {
             let frame = model.frame_id(TALOS_WAIST)?;
             let mut task = Se3Task::new(
@@ -98,6 +102,8 @@ impl TsidController {
                 at_rest(state.frame_placement(&model, frame)?),
             );
             task.mask = Vector6::new(0.0, 0.0, 0.0, 1.0, 1.0, 1.0);
+            waist_rotation0 = task.reference.placement.rotation;
+            waist = Some(id.frames.len());
             id.frames.push((task, w.weight));
         }
         let c = &g.contacts;
@@ -145,6 +151,8 @@ impl TsidController {
             id,
             state,
             feet: [left, right],
+            waist,
+            waist_rotation0,
             q_int: q.clone(),
             v_int: v.clone(),
             step: DVector::zeros(nv),
@@ -193,6 +201,10 @@ impl TsidController {
 
     /// Copies the targets into the tasks.
     fn set_references(&mut self, targets: &Targets) {
+        if let Some((waist, _)) = self.waist.and_then(|i| self.id.frames.get_mut(i)) {
+            let yaw = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), targets.waist_yaw);
+            waist.reference.placement.rotation = yaw.matrix() * self.waist_rotation0;
+        }
         if let Some((com, _)) = &mut self.id.com {
             com.reference.pos.copy_from(&targets.com.pos);
             com.reference.vel.copy_from(&targets.com.vel);
