@@ -9,6 +9,25 @@
 //! (clamped into the support polygon) `→` net wrench `(m ω²(c − p*), m(g + c̈_ref,z))` with
 //! zero moment about `p*` (seed 002 Eq 28–29) `→` distribution (its ZMP feeds the CoM
 //! admittance, seed 002 §4.8) `→` ankle admittances. Nothing allocates after [`Stabilizer::new`].
+//!
+//! # Sway damping (our addition)
+//!
+//! Eq 2.30–2.31 assume a stiff position-controlled robot whose CoM follows the CoM reference
+//! `u` handed to the whole-body controller. A servo-held robot is an inverted pendulum on a
+//! spring instead: `c̈ = ω²c − K_s(c − u) − D ċ`, with the measured ZMP `p = c − c̈/ω²`. In
+//! the corps simulator TALOS sways at Ω ≈ 8.4 rad/s (1.33 Hz) with ζ ≈ 0.013 (≈ 8 % amplitude
+//! loss per cycle, `ik_position_stand` without stabilizer), i.e. `K_s = Ω² + ω² ≈ 81 s⁻²`:
+//! the servos' damping is set on each joint's own apparent inertia, not the whole body's.
+//! Above Ω the response of `c` to `u` turns by 180°, so the DCM velocity term
+//! `(1 + K_P/ω) ċ/ω` of `p*`, integrated twice by the admittance `δ̈ = K_adm(p − p*)`, feeds
+//! `u` in phase with `ċ`: negative damping. Linearized (this model, Table 4.3 IK gains
+//! K_P 8, K_I 1, K_Z 1, K_adm 15, a 10 ms IK lag), the sway poles are +3.4 ± 14.6j s⁻¹;
+//! every `K_adm > 0` is unstable (K_adm 5: +1.9 ± 10.7j; K_adm 1: +0.5 ± 8.8j), and a stiffer
+//! spring at the same ζ is worse, not better (Ω = 5 Hz: +8.4 ± 48j), as the IK lag adds phase. Subtracting `g_d (ċ − ċ*)` from the CoM reference adds the missing
+//! damping (`K_s g_d` on the sway) without touching the LIPM design: on a robot whose CoM
+//! follows its reference `ċ = ċ*` and the term is zero. Same model: `g_d = 0.05 s` gives
+//! −2.2 ± 15.6j, `g_d = 0.1 s` gives −9.7 ± 14.2j (ζ ≈ 0.57), the DCM poles stay at
+//! −2.8 ± 1.8j; hence the default 0.1 s ≈ `2 · 0.5 · Ω / K_s`.
 
 pub mod ankle_admittance;
 pub mod com_admittance;
@@ -42,6 +61,10 @@ pub struct StabilizerSettings {
     pub distribution: DistributionSettings,
     pub ankle: AnkleAdmittanceSettings,
     pub sole: Sole,
+    /// Sway damping `g_d` [s]: the CoM reference's position becomes `c* − g_d (ċ − ċ*)`
+    /// (x, y; `ċ` measured, `c*`, `ċ*` the admittance's output). Default 0.1 s (our addition,
+    /// see "Sway damping" in the module docs); 0 gives seed 000 Eq 2.30–2.31 alone.
+    pub sway_damping: f64,
 }
 
 impl Default for StabilizerSettings {
@@ -55,6 +78,7 @@ impl Default for StabilizerSettings {
             distribution: DistributionSettings::default(),
             ankle: AnkleAdmittanceSettings::default(),
             sole: Sole::default(),
+            sway_damping: 0.1,
         }
     }
 }
@@ -155,6 +179,11 @@ impl Stabilizer {
             "com admittance",
             nonneg(s.com_admittance.gain) && nonneg(s.com_admittance.max_offset),
             "must be ≥ 0",
+        )?;
+        check(
+            "sway damping",
+            nonneg(s.sway_damping) && s.sway_damping.is_finite(),
+            "must be finite and ≥ 0",
         )?;
         let d = &s.distribution;
         check(
@@ -298,7 +327,7 @@ impl Stabilizer {
             .distribution
             .solve(&desired, &point, &i.feet, i.phase)?;
 
-        let com = self.com.update(
+        let mut com = self.com.update(
             &i.com_ref,
             &i.com_vel_ref,
             &i.com_acc_ref,
@@ -306,6 +335,10 @@ impl Stabilizer {
             &dist.zmp,
             s.dt,
         );
+        // Sway damping (module docs): zero when the measured CoM moves with its reference.
+        for k in 0..2 {
+            com.pos[k] -= s.sway_damping * (i.com_vel[k] - com.vel[k]);
+        }
         let mut ankle = [AnkleCommand::default(); 2];
         #[allow(clippy::needless_range_loop)] // per-foot arrays in step
         for f in 0..2 {

@@ -2,7 +2,9 @@
 //! run (Fig 4.2, §3.4): pattern generator → DCM PI → CoM admittance → whole-body controller.
 //! The stabilizer reads the measured CoM, CoM velocity, ZMP and foot wrenches and rewrites the
 //! CoM target; the feet targets get the ankle admittance's roll/pitch offsets when its gain
-//! is not zero.
+//! is not zero. The stabilizer's sway damping keeps its default
+//! ([`StabilizerSettings::sway_damping`], 0.1 s): without it the loop excites the servo-held
+//! robot's 1.3 Hz sway (see the `corps_control::stabilizer` module docs).
 
 use super::{Measured, WholeBodyController};
 use crate::run::gains::StabilizerGains;
