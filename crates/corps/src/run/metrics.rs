@@ -90,6 +90,8 @@ pub struct ThesisFigures {
     pub right_foot_y: Option<[f64; 3]>,
     pub cost_of_transport: Option<f64>,
     pub mechanical_cost_of_transport: Option<f64>,
+    /// Passivity gait measure: double support, single support, flying foot.
+    pub passivity_gait_measure: Option<[f64; 3]>,
 }
 
 impl ThesisFigures {
@@ -119,6 +121,9 @@ pub struct WalkMetrics {
     /// Costs of transport C_et = E_m/(m g D) and C_mt = E_m+/(m g D) (seed 000 Eq 4.16).
     pub cost_of_transport: f64,
     pub mechanical_cost_of_transport: f64,
+    /// Passivity gait measure (seed 000 Eq 4.17–4.18) in double support, single support and
+    /// for the flying foot.
+    pub passivity_gait_measure: [Option<f64>; 3],
 }
 
 /// Everything measured during a run.
@@ -244,6 +249,19 @@ impl fmt::Display for Metrics {
             match th.map(|t| (t.cost_of_transport, t.mechanical_cost_of_transport)) {
                 Some((Some(et), Some(mt))) => writeln!(f, "   (thesis {et:.2}, {mt:.2})")?,
                 _ => writeln!(f)?,
+            }
+            let show = |x: Option<f64>| x.map_or("–".to_string(), |v| format!("{v:.2}"));
+            let [ds, ss, fly] = w.passivity_gait_measure;
+            write!(
+                f,
+                "  passivity gait measure DS {}, SS {}, flying foot {}",
+                show(ds),
+                show(ss),
+                show(fly)
+            )?;
+            match th.and_then(|t| t.passivity_gait_measure) {
+                Some([a, b, c]) => writeln!(f, "   (thesis {a:.2}, {b:.2}, {c:.2})")?,
+                None => writeln!(f)?,
             }
         }
         let t = &self.tick_time;

@@ -20,6 +20,7 @@
 
 pub mod controller;
 pub mod gains;
+mod gait;
 mod metrics;
 pub mod motion;
 mod plots;
@@ -329,6 +330,16 @@ pub fn run_scenario(
     let base0 = Vector3::new(q[0], q[1], q[2]);
     let mut contact_start: [Option<Vector3<f64>>; 2] = [None, None];
     let mut series = Series::default();
+    let mut pgm = gait::PassivityGaitMeasure::default();
+    // Ankle pitch and roll of each leg (TALOS: leg_*_5 and leg_*_6), as torque indices.
+    let ankle = |name: &str| -> Result<usize> {
+        let j = model.joint_id(name)?;
+        Ok(model.joints[j].idx_v - 6)
+    };
+    let ankles = [
+        [ankle("leg_left_5_joint")?, ankle("leg_left_6_joint")?],
+        [ankle("leg_right_5_joint")?, ankle("leg_right_6_joint")?],
+    ];
     let mut tick_us = Vec::with_capacity(ticks);
     let bar = if progress {
         crate::sim_cmd::progress_bar(ticks)
@@ -387,6 +398,11 @@ pub fn run_scenario(
         let (w, w_pos) = work(&sim, &model, dt);
         m.work += w;
         m.positive_work += w_pos;
+        pgm.push(
+            sim.applied_torques().as_slice(),
+            &ankles,
+            [targets.feet[0].in_contact, targets.feet[1].in_contact],
+        );
         sim.step(ctrl.command())?;
         if tick % 50 == 0 {
             bar.set_position(tick as u64);
@@ -416,6 +432,7 @@ pub fn run_scenario(
             final_base_error: (base - planned).xy().norm(),
             cost_of_transport: m.work / weight,
             mechanical_cost_of_transport: m.positive_work / weight,
+            passivity_gait_measure: pgm.values(),
         });
     }
     for (k, foot) in m.feet.iter_mut().enumerate() {
