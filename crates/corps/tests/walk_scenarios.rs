@@ -90,3 +90,19 @@ fn tsid_torque_walks_by_velocity_commands_forward_sideways_backward() {
 fn tsid_torque_walks_while_turning() {
     walk("tsid_torque_turning");
 }
+
+#[test]
+fn ik_position_walks_six_20_cm_steps() {
+    assert_zmp_at_most_thesis(&walk("ik_position_20cm"));
+}
+
+#[test]
+fn ik_position_walks_with_the_fast_timing() {
+    walk("ik_position_20cm_fast");
+}
+
+#[test]
+#[ignore = "falls: TSID in position mode has no working stabilizer yet (the DCM/admittance loop diverges with it, the walk falls without it)"]
+fn tsid_position_walks_six_20_cm_steps() {
+    walk("tsid_position_20cm");
+}

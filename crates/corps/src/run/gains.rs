@@ -109,6 +109,9 @@ pub struct StabilizerGains {
     pub com_admittance: f64,
     #[serde(default)]
     pub ankle_gain: f64,
+    /// Damping of the whole-body sway through the CoM reference (s); absent: the
+    /// stabilizer's default (`corps_control::stabilizer::StabilizerSettings::sway_damping`).
+    pub sway_damping: Option<f64>,
 }
 
 impl StabilizerGains {
@@ -119,6 +122,7 @@ impl StabilizerGains {
             ("stabilizer.dcm_kz", self.dcm_kz),
             ("stabilizer.com_admittance", self.com_admittance),
             ("stabilizer.ankle_gain", self.ankle_gain),
+            ("stabilizer.sway_damping", self.sway_damping.unwrap_or(0.0)),
         ] {
             check_positive(name, x)?;
         }

@@ -35,6 +35,9 @@ impl<C: WholeBodyController> Stabilized<C> {
         s.dcm.kz = g.dcm_kz;
         s.com_admittance.gain = g.com_admittance;
         s.ankle.gain = g.ankle_gain;
+        if let Some(d) = g.sway_damping {
+            s.sway_damping = d;
+        }
         Ok(Self {
             inner,
             gravity: s.gravity,
