@@ -4,21 +4,10 @@
 
 mod common;
 use common::*;
-use corps_control::RobotState;
-use corps_sim::place_on_ground;
 
 #[test]
 fn a_removed_then_re_added_contact_ramps_its_force_and_stays_feasible() {
-    let model = talos_box();
-    let mut q = model
-        .reference_configuration("half_sitting")
-        .unwrap()
-        .clone();
-    place_on_ground(&model, q.as_mut_slice(), 0.0).unwrap();
-    let v = nalgebra::DVector::zeros(model.nv);
-    let mut state = RobotState::new(&model);
-    state.update(&model, q.as_slice(), v.as_slice()).unwrap();
-    let mut id = standing_controller(&model, &state, &q);
+    let (model, _, state, mut id) = standing();
     let right = "leg_right_sole_fix_joint";
     let template = id.contacts[id.contact_index(right).unwrap()].clone();
     assert_eq!(template.fmin, 1.0);

@@ -6,28 +6,9 @@
 mod common;
 use common::*;
 use corps_control::contacts::Contact;
-use corps_control::formulation::InverseDynamics;
 use corps_control::tasks::{ContactForceTask, JointBoundsTask, Se3Reference};
-use corps_control::RobotState;
 use corps_model::spatial::Motion;
-use corps_model::Model;
-use corps_sim::place_on_ground;
 use nalgebra::{DVector, Vector3, Vector6};
-use std::sync::Arc;
-
-fn standing() -> (Arc<Model>, DVector<f64>, RobotState, InverseDynamics) {
-    let model = talos_box();
-    let mut q = model
-        .reference_configuration("half_sitting")
-        .unwrap()
-        .clone();
-    place_on_ground(&model, q.as_mut_slice(), 0.0).unwrap();
-    let v = DVector::zeros(model.nv);
-    let mut state = RobotState::new(&model);
-    state.update(&model, q.as_slice(), v.as_slice()).unwrap();
-    let id = standing_controller(&model, &state, &q);
-    (model, q, state, id)
-}
 
 #[test]
 fn joint_bounds_keep_a_fast_joint_from_crossing_its_limit() {

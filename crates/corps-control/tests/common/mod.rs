@@ -118,3 +118,19 @@ pub fn standing_controller(
     ));
     id
 }
+
+/// TALOS standing still in half-sitting on the ground (no simulation): the model, the
+/// configuration, the state and the standing controller with references taken there.
+pub fn standing() -> (Arc<Model>, DVector<f64>, RobotState, InverseDynamics) {
+    let model = talos_box();
+    let mut q = model
+        .reference_configuration("half_sitting")
+        .unwrap()
+        .clone();
+    place_on_ground(&model, q.as_mut_slice(), 0.0).unwrap();
+    let v = DVector::zeros(model.nv);
+    let mut state = RobotState::new(&model);
+    state.update(&model, q.as_slice(), v.as_slice()).unwrap();
+    let id = standing_controller(&model, &state, &q);
+    (model, q, state, id)
+}

@@ -132,14 +132,7 @@ pub fn run_file(
     duration: Option<f64>,
     progress: bool,
 ) -> Result<RunReport> {
-    let shown = path.display();
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            bail!("{shown}: no such scenario file")
-        }
-        Err(e) => bail!("{shown}: cannot read the scenario file: {e}"),
-    };
+    let text = crate::sim_cmd::read_scenario(path)?;
     run_text(&text, path, output, duration, progress)
 }
 
@@ -293,17 +286,7 @@ pub fn run_scenario(
     let foot_joints = soles.map(|f| model.frames[f].parent_joint.unwrap_or(usize::MAX));
     let mut data = Data::new(&model);
     let zeros = DVector::zeros(model.nv);
-    let com0 = center_of_mass(
-        &model,
-        &mut data,
-        q.as_slice(),
-        v.as_slice(),
-        zeros.as_slice(),
-    )?;
-    let feet0 = [
-        frame_placement(&model, sim.data(), soles[0])?,
-        frame_placement(&model, sim.data(), soles[1])?,
-    ];
+    let (com0, feet0) = com_and_soles(&model, &mut data, &sim, &soles, &zeros)?;
     let ticks = (scenario.duration / dt).round() as usize;
     let plan = MotionPlan::new(
         scenario.motion.clone(),
@@ -351,17 +334,7 @@ pub fn run_scenario(
         plan.sample(t, &mut targets);
         let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
         // What the sensors tell: CoM (base estimator), soles, contact wrenches (F/T).
-        let com = center_of_mass(
-            &model,
-            &mut data,
-            q.as_slice(),
-            v.as_slice(),
-            zeros.as_slice(),
-        )?;
-        let placements = [
-            frame_placement(&model, sim.data(), soles[0])?,
-            frame_placement(&model, sim.data(), soles[1])?,
-        ];
+        let (com, placements) = com_and_soles(&model, &mut data, &sim, &soles, &zeros)?;
         let contact = measure_contacts(&sim, &foot_joints, &placements);
         let measured = Measured {
             com,
@@ -458,6 +431,23 @@ pub fn run_scenario(
         dir: dir.to_path_buf(),
         files,
     })
+}
+
+/// The CoM (its velocity left in `data.vcom`) and the sole placements of the simulated robot.
+fn com_and_soles(
+    model: &Model,
+    data: &mut Data,
+    sim: &Simulator,
+    soles: &[usize; 2],
+    zero_acceleration: &DVector<f64>,
+) -> Result<(Vector3<f64>, [Se3; 2])> {
+    let (q, v) = (sim.q().as_slice(), sim.v().as_slice());
+    let com = center_of_mass(model, data, q, v, zero_acceleration.as_slice())?;
+    let soles = [
+        frame_placement(model, sim.data(), soles[0])?,
+        frame_placement(model, sim.data(), soles[1])?,
+    ];
+    Ok((com, soles))
 }
 
 /// Contact forces of one tick.

@@ -41,13 +41,7 @@ pub struct SimArgs {
 pub fn run(args: SimArgs) -> Result<()> {
     let path = &args.scenario;
     let shown = path.display();
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            bail!("{shown}: no such scenario file")
-        }
-        Err(e) => bail!("{shown}: cannot read the scenario file: {e}"),
-    };
+    let text = read_scenario(path)?;
     let mut scenario = Scenario::parse(&text).map_err(|e| anyhow!("{shown}: {e}"))?;
     if scenario.controller.is_some() {
         bail!("{shown}: this scenario has a [controller]: run it with `corps run`");
@@ -73,6 +67,18 @@ pub fn run(args: SimArgs) -> Result<()> {
             Err(e).context("printing the summary")
         }
         _ => Ok(()),
+    }
+}
+
+/// The text of the scenario file at `path`, or a one-line error naming it.
+pub fn read_scenario(path: &Path) -> Result<String> {
+    let shown = path.display();
+    match std::fs::read_to_string(path) {
+        Ok(t) => Ok(t),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            bail!("{shown}: no such scenario file")
+        }
+        Err(e) => bail!("{shown}: cannot read the scenario file: {e}"),
     }
 }
 
