@@ -106,3 +106,13 @@ fn ik_position_walks_with_the_fast_timing() {
 fn tsid_position_walks_six_20_cm_steps() {
     walk("tsid_position_20cm");
 }
+
+#[test]
+fn tsid_torque_steps_on_the_stick() {
+    walk("tsid_torque_stick");
+}
+
+#[test]
+fn ik_position_steps_on_the_stick() {
+    walk("ik_position_stick");
+}
