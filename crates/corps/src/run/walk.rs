@@ -9,11 +9,13 @@
 
 use super::motion::{FootTarget, Side, Targets};
 use anyhow::{Context, Result};
+use corps_control::trajectories::MinJerk;
 use corps_model::spatial::{Motion, Se3};
 use corps_walk::mpc::{MpcParams, VelocityCommand, WalkingMpc};
 use corps_walk::preview_control::PreviewParams;
 use corps_walk::preview_walk::PreviewWalk;
 use corps_walk::{Foot, FootPose, FootVelocity, FootstepPlan, Lipm, StepTiming, WalkingReference};
+use nalgebra::DVector;
 use nalgebra::{Rotation3, Vector3};
 
 /// `[motion] kind = "walk"`: the parameters of a straight walk or a staircase.
@@ -41,6 +43,10 @@ pub struct WalkSection {
     /// The contact of a foot about to swing is released this long before lift-off (its force
     /// ramps to zero over the controller's contact transition); default: the double support.
     pub release: Option<f64>,
+    /// CoM height above the soles while walking (m); default: the height at the handover. Long
+    /// steps need it lower (the stance leg would otherwise reach full extension): the CoM
+    /// moves there (min-jerk) while the robot stands before the plan starts.
+    pub com_height: Option<f64>,
 }
 
 fn single_support() -> f64 {
@@ -76,6 +82,11 @@ impl WalkSection {
         if let Some(r) = self.release {
             if !(r >= 0.0 && r.is_finite()) {
                 return Err("motion.release: must be ≥ 0".into());
+            }
+        }
+        if let Some(h) = self.com_height {
+            if !(h > 0.0 && h.is_finite()) {
+                return Err("motion.com_height: must be positive".into());
             }
         }
         Ok(())
@@ -175,16 +186,29 @@ impl WalkMotion {
         )
         .context("motion: footstep plan")?
         .with_swing_height(w.swing_height);
+        let walking_height = w.com_height.unwrap_or(com_height);
         let mut params = PreviewParams::kajita2003();
         params.period = dt;
-        params.lipm = Lipm::new(com_height, 9.81).context("motion: LIPM")?;
+        params.lipm = Lipm::new(walking_height, 9.81).context("motion: LIPM")?;
         params.horizon = (1.6 / dt).round() as usize;
         let mut walk = PreviewWalk::new(plan, params).context("motion: preview control")?;
         let lead_time = walk.lead_time();
         let n = (duration / dt).round() as usize + 1;
         let mut samples = Vec::with_capacity(n);
-        for _ in 0..n {
-            samples.push(walk.step().context("motion: preview control")?);
+        // From the starting height to the walking height (min-jerk) during the lead time.
+        let lower = MinJerk {
+            start: DVector::from_element(1, com_height - walking_height),
+            end: DVector::zeros(1),
+            t0: 0.0,
+            duration: lead_time,
+        };
+        for k in 0..n {
+            let mut r = walk.step().context("motion: preview control")?;
+            let dz = lower.sample(k as f64 * dt);
+            r.com.z += dz.pos[0];
+            r.com_vel.z += dz.vel[0];
+            r.com_acc.z += dz.acc[0];
+            samples.push(r);
         }
         let release = w.release.unwrap_or(w.double_support);
         Ok(Self::from_samples(samples, release, dt, feet0, lead_time))
