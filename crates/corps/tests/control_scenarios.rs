@@ -159,7 +159,6 @@ fn ik_position_balances_on_one_foot() {
 }
 
 #[test]
-#[ignore = "position mode without the DCM/admittance stabilizer: base drift 2.5 mm > 1 mm; with it (K_adm 12 + sway damping) TSID-position diverges at 7.8 s"]
 fn tsid_position_stands() {
     assert_stands_still(&run("tsid_position_stand"));
 }
@@ -170,7 +169,6 @@ fn ik_position_stands() {
 }
 
 #[test]
-#[ignore = "position mode without the DCM/admittance stabilizer: CoM error peak 18 mm > 5 mm; with it (K_adm 12 + sway damping) TSID-position falls"]
 fn tsid_position_tracks_a_com_sinusoid() {
     assert_tracks_sinusoid(&run("tsid_position_com_sinusoid"));
 }

@@ -120,7 +120,7 @@ fn ik_position_walks_with_the_fast_timing() {
 }
 
 #[test]
-#[ignore = "falls: with the stabilizer (K_adm 12, filtered sway damping) TSID-position stands and tracks the CoM sinusoid, but the 20 cm walk diverges at 5.3–5.7 s"]
+#[ignore = "falls: with the stabilizer (K_adm 12, filtered sway damping) TSID-position stands and tracks the CoM sinusoid, but the 20 cm walk still diverges (simulation at t = 6.1 s)"]
 fn tsid_position_walks_six_20_cm_steps() {
     walk("tsid_position_20cm");
 }

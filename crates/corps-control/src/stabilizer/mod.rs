@@ -65,6 +65,16 @@ pub struct StabilizerSettings {
     /// (x, y; `ċ` measured, `c*`, `ċ*` the admittance's output). Default 0.1 s (our addition,
     /// see "Sway damping" in the module docs); 0 gives seed 000 Eq 2.30–2.31 alone.
     pub sway_damping: f64,
+    /// How the sway damping offset `d = −g_d (ċ − ċ*)` reaches the CoM reference. `None`
+    /// (default): added to the position only, for a whole-body controller that tracks the CoM
+    /// position directly (the IK). `Some(ω_f)` [rad/s]: `d` goes through a critically damped
+    /// second-order low-pass at `ω_f` whose output, velocity and acceleration are added to
+    /// the reference's position, velocity and acceleration, for a controller whose CoM task
+    /// works at the acceleration level on its own state (TSID in position mode): there a
+    /// position-only offset is followed through the CoM task's PD alone (Table 4.3 TSID-position
+    /// Kp 1000, Kd 300: poles −3.4 and −297 s⁻¹), i.e. at the sway frequency it arrives ≈ 70°
+    /// late at a third of its size and no longer damps (see "Sway damping" above).
+    pub sway_damping_filter: Option<f64>,
 }
 
 impl Default for StabilizerSettings {
@@ -79,6 +89,7 @@ impl Default for StabilizerSettings {
             ankle: AnkleAdmittanceSettings::default(),
             sole: Sole::default(),
             sway_damping: 0.1,
+            sway_damping_filter: None,
         }
     }
 }
@@ -134,6 +145,9 @@ pub struct Stabilizer {
     distribution: WrenchDistribution,
     com: ComAdmittance,
     ankles: [AnkleAdmittance; 2],
+    /// State of the sway damping filter (x, y): offset and its rate.
+    sway: Vector2<f64>,
+    sway_rate: Vector2<f64>,
 }
 
 fn check(name: &str, ok: bool, reason: &str) -> Result<()> {
@@ -185,6 +199,11 @@ impl Stabilizer {
             nonneg(s.sway_damping) && s.sway_damping.is_finite(),
             "must be finite and ≥ 0",
         )?;
+        check(
+            "sway damping filter",
+            s.sway_damping_filter.is_none_or(pos),
+            "must be positive",
+        )?;
         let d = &s.distribution;
         check(
             "distribution weights",
@@ -226,6 +245,8 @@ impl Stabilizer {
                 AnkleAdmittance::new(settings.ankle),
                 AnkleAdmittance::new(settings.ankle),
             ],
+            sway: Vector2::zeros(),
+            sway_rate: Vector2::zeros(),
         })
     }
 
@@ -233,6 +254,8 @@ impl Stabilizer {
     pub fn reset(&mut self) {
         self.dcm.reset();
         self.com.reset();
+        self.sway = Vector2::zeros();
+        self.sway_rate = Vector2::zeros();
         for a in &mut self.ankles {
             a.reset();
         }
@@ -337,7 +360,18 @@ impl Stabilizer {
         );
         // Sway damping (module docs): zero when the measured CoM moves with its reference.
         for k in 0..2 {
-            com.pos[k] -= s.sway_damping * (i.com_vel[k] - com.vel[k]);
+            let d = -s.sway_damping * (i.com_vel[k] - com.vel[k]);
+            match s.sway_damping_filter {
+                None => com.pos[k] += d,
+                Some(w) => {
+                    let acc = w * w * (d - self.sway[k]) - 2.0 * w * self.sway_rate[k];
+                    self.sway_rate[k] += acc * s.dt;
+                    self.sway[k] += self.sway_rate[k] * s.dt;
+                    com.pos[k] += self.sway[k];
+                    com.vel[k] += self.sway_rate[k];
+                    com.acc[k] += acc;
+                }
+            }
         }
         let mut ankle = [AnkleCommand::default(); 2];
         #[allow(clippy::needless_range_loop)] // per-foot arrays in step

@@ -4,7 +4,8 @@
 //! CoM target; the feet targets get the ankle admittance's roll/pitch offsets when its gain
 //! is not zero. The stabilizer's sway damping keeps its default
 //! ([`StabilizerSettings::sway_damping`], 0.1 s): without it the loop excites the servo-held
-//! robot's 1.3 Hz sway (see the `corps_control::stabilizer` module docs).
+//! robot's 1.3 Hz sway (see the `corps_control::stabilizer` module docs). For TSID in position
+//! mode the damping offset comes filtered with its velocity and acceleration ([`ComTracking`]).
 
 use super::{Measured, WholeBodyController};
 use crate::run::gains::StabilizerGains;
@@ -22,7 +23,38 @@ pub struct Stabilized<C> {
     gravity: f64,
 }
 
-impl<C: WholeBodyController> Stabilized<C> {
+/// How a whole-body controller behind the stabilizer tracks the CoM reference.
+pub trait ComTracking {
+    /// `Some(ω_f)` when the CoM task works at the acceleration level on the controller's own
+    /// state, so the stabilizer's sway damping must come with its velocity and acceleration
+    /// ([`StabilizerSettings::sway_damping_filter`]); `None` when the CoM position is tracked
+    /// directly.
+    fn sway_damping_filter(&self) -> Option<f64>;
+}
+
+impl ComTracking for super::IkController {
+    fn sway_damping_filter(&self) -> Option<f64> {
+        None
+    }
+}
+
+/// Bandwidth of the sway damping filter for TSID in position mode [rad/s]: about five times
+/// the servo-held sway's 8.4 rad/s (module docs of `corps_control::stabilizer`), i.e. ≈ 24° of
+/// lag at the sway. The filter's acceleration feeds `ω_f² g_d ċ` of the measured CoM velocity
+/// straight into the QP's CoM acceleration, which bounds it from above (120 rad/s made the
+/// standing robot sway 9 mm; 30 and 60 rad/s held it within 1 mm).
+pub const TSID_SWAY_DAMPING_FILTER: f64 = 40.0;
+
+impl ComTracking for super::TsidController {
+    /// TSID's CoM task is `c̈ = c̈* + K_p (c* − c) + K_d (ċ* − ċ)` on the integrated state:
+    /// a position-only offset reaches that state through the PD alone (Kp 1000, Kd 300: a
+    /// 0.3 s pole), too late to damp the sway.
+    fn sway_damping_filter(&self) -> Option<f64> {
+        Some(TSID_SWAY_DAMPING_FILTER)
+    }
+}
+
+impl<C: WholeBodyController + ComTracking> Stabilized<C> {
     /// `inner` behind a stabilizer with gains `g` for a robot of `mass` kg at period `dt`.
     pub fn new(inner: C, g: &StabilizerGains, mass: f64, dt: f64) -> anyhow::Result<Self> {
         let mut s = StabilizerSettings {
@@ -38,6 +70,7 @@ impl<C: WholeBodyController> Stabilized<C> {
         if let Some(d) = g.sway_damping {
             s.sway_damping = d;
         }
+        s.sway_damping_filter = inner.sway_damping_filter();
         Ok(Self {
             inner,
             gravity: s.gravity,
@@ -67,7 +100,7 @@ fn reference_zmp(targets: &Targets, gravity: f64) -> Vector2<f64> {
     )
 }
 
-impl<C: WholeBodyController> WholeBodyController for Stabilized<C> {
+impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C> {
     fn tick(
         &mut self,
         t: f64,
