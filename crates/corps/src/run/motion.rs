@@ -68,6 +68,15 @@ pub enum MotionSection {
     ComFile { path: std::path::PathBuf },
 }
 
+/// `Ok` when `x` is positive and finite, else an error naming `motion.<name>`.
+pub(crate) fn positive(name: &str, x: f64) -> Result<(), String> {
+    if x > 0.0 && x.is_finite() {
+        Ok(())
+    } else {
+        Err(format!("motion.{name} = {x}: must be positive and finite"))
+    }
+}
+
 fn one_second() -> f64 {
     1.0
 }
@@ -84,13 +93,6 @@ fn five_centimetres() -> f64 {
 impl MotionSection {
     /// Checks the values; the error names the key.
     pub fn check(&self) -> Result<(), String> {
-        let positive = |name: &str, x: f64| {
-            if x > 0.0 && x.is_finite() {
-                Ok(())
-            } else {
-                Err(format!("motion.{name} = {x}: must be positive and finite"))
-            }
-        };
         match self {
             MotionSection::Stand => Ok(()),
             MotionSection::Walk(w) => w.check(),

@@ -7,7 +7,7 @@
 //!   by the velocity-driven MPC of seed 002 §4.4, re-planned every control period
 //!   ([`VelocitySection`]).
 
-use super::motion::{FootTarget, Side, Targets};
+use super::motion::{positive, FootTarget, Side, Targets};
 use anyhow::{Context, Result};
 use corps_control::trajectories::MinJerk;
 use corps_model::spatial::{Motion, Se3};
@@ -64,13 +64,6 @@ fn first_foot() -> Side {
 
 impl WalkSection {
     pub fn check(&self) -> Result<(), String> {
-        let positive = |name: &str, x: f64| {
-            if x > 0.0 && x.is_finite() {
-                Ok(())
-            } else {
-                Err(format!("motion.{name} = {x}: must be positive and finite"))
-            }
-        };
         positive("single_support", self.single_support)?;
         positive("double_support", self.double_support)?;
         if !(self.step_length.is_finite() && self.step_height.is_finite()) {
