@@ -594,7 +594,8 @@ impl WalkingMpc {
         if let Some(k) = stop {
             if c + rel > k {
                 // after the closing step landed: to the middle of P_K and P_{K+1}, then stand
-                let kr = (k - c) as i64;
+                // The closing step may have landed already (k < c): signed difference.
+                let kr = k as i64 - c as i64;
                 let after = u - pc - kr as f64 * period;
                 let lam = (after / ds).clamp(0.0, 1.0);
                 let (a, b) = (slot(kr), slot(kr + 1));
