@@ -46,8 +46,8 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// Standard gravity used for the LIPM reference ZMP (m/s²).
-const GRAVITY: f64 = 9.81;
+/// Standard gravity of the run's LIPM references (ZMP, walking) and cost of transport (m/s²).
+pub(crate) const GRAVITY: f64 = 9.81;
 /// Vertical force (N) below which the ZMP is not defined (the robot is in the air).
 const ZMP_MIN_FZ: f64 = 10.0;
 
@@ -558,9 +558,8 @@ fn record(
         series.com_ref[k].push(c_ref.pos[k]);
         series.base[k].push(s.base[k]);
     }
-    // Reference ZMP of the CoM reference on the measured contact plane (LIPM, seed 000 Eq 2.22).
-    let h = c_ref.pos[2] - s.contact.plane_z;
-    let zmp_ref = [0, 1].map(|k| c_ref.pos[k] - h / GRAVITY * c_ref.acc[k]);
+    // Reference ZMP of the CoM reference on the measured contact plane.
+    let zmp_ref = s.targets.reference_zmp(s.contact.plane_z, GRAVITY);
     for k in 0..2 {
         series.zmp_ref[k].push(zmp_ref[k]);
         match s.contact.zmp {

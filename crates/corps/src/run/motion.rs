@@ -153,6 +153,29 @@ pub struct Targets {
     pub waist_yaw: f64,
 }
 
+impl Targets {
+    /// The ZMP of the CoM reference on the ground at height `ground` (LIPM, seed 000 Eq 2.22):
+    /// `p = c − (c_z − z_ground)/g · c̈`, world x and y.
+    pub fn reference_zmp(&self, ground: f64, gravity: f64) -> [f64; 2] {
+        let c = &self.com;
+        let h = c.pos[2] - ground;
+        [0, 1].map(|k| c.pos[k] - h / gravity * c.acc[k])
+    }
+
+    /// Mean height of the feet targets in contact (0 when none is).
+    pub fn contact_ground(&self) -> f64 {
+        let in_contact = self.feet.iter().filter(|f| f.in_contact);
+        let (z, n) = in_contact.fold((0.0, 0.0), |(z, n), f| {
+            (z + f.reference.placement.translation.z, n + 1.0)
+        });
+        if n > 0.0 {
+            z / n
+        } else {
+            0.0
+        }
+    }
+}
+
 /// A motion anchored at the robot's CoM and soles when the controller takes over.
 pub struct MotionPlan {
     section: MotionSection,

@@ -182,7 +182,7 @@ impl WalkMotion {
         let walking_height = w.com_height.unwrap_or(com_height);
         let mut params = PreviewParams::kajita2003();
         params.period = dt;
-        params.lipm = Lipm::new(walking_height, 9.81).context("motion: LIPM")?;
+        params.lipm = Lipm::new(walking_height, super::GRAVITY).context("motion: LIPM")?;
         params.horizon = (1.6 / dt).round() as usize;
         let mut walk = PreviewWalk::new(plan, params).context("motion: preview control")?;
         let lead_time = walk.lead_time();
@@ -217,7 +217,7 @@ impl WalkMotion {
         duration: f64,
     ) -> Result<Self> {
         let params = MpcParams {
-            lipm: Lipm::new(com_height, 9.81).context("motion: LIPM")?,
+            lipm: Lipm::new(com_height, super::GRAVITY).context("motion: LIPM")?,
             control_period: dt,
             feet_distance: (feet0[0].translation - feet0[1].translation).xy().norm(),
             ..MpcParams::default()

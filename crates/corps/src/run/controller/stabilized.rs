@@ -81,25 +81,6 @@ impl<C: WholeBodyController + ComTracking> Stabilized<C> {
     }
 }
 
-/// The reference ZMP of a CoM reference on the ground under the feet in contact (LIPM,
-/// seed 000 Eq 2.22): `p = c − (c_z − z_ground)/g · c̈`.
-fn reference_zmp(targets: &Targets, gravity: f64) -> Vector2<f64> {
-    let (mut z, mut n) = (0.0, 0.0);
-    for f in &targets.feet {
-        if f.in_contact {
-            z += f.reference.placement.translation.z;
-            n += 1.0;
-        }
-    }
-    let ground = if n > 0.0 { z / n } else { 0.0 };
-    let c = &targets.com;
-    let h = c.pos[2] - ground;
-    Vector2::new(
-        c.pos[0] - h / gravity * c.acc[0],
-        c.pos[1] - h / gravity * c.acc[1],
-    )
-}
-
 impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C> {
     fn tick(
         &mut self,
@@ -114,7 +95,8 @@ impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C>
             (false, true) => ContactPhase::RightSupport,
             _ => ContactPhase::Double,
         };
-        let zmp_ref = reference_zmp(targets, self.gravity);
+        let [px, py] = targets.reference_zmp(targets.contact_ground(), self.gravity);
+        let zmp_ref = Vector2::new(px, py);
         let c = &targets.com;
         let v3 = |x: &nalgebra::DVector<f64>| Vector3::new(x[0], x[1], x[2]);
         let input = StabilizerInput {
