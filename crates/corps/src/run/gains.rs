@@ -25,13 +25,14 @@ pub const BUILT_IN: [(&str, &str); 4] = [
 
 /// The gains file a scenario names: a built-in name (no extension, no directory) or a path
 /// relative to the scenario's directory; None: the kind's default.
-pub enum GainsSource<'a> {
-    BuiltIn(&'a str),
+pub enum GainsSource {
+    /// The text of a built-in set.
+    BuiltIn(&'static str),
     File(std::path::PathBuf),
 }
 
-impl<'a> GainsSource<'a> {
-    pub fn resolve(name: &Path, base_dir: &Path) -> Result<GainsSource<'a>> {
+impl GainsSource {
+    pub fn resolve(name: &Path, base_dir: &Path) -> Result<GainsSource> {
         let text = name.to_string_lossy();
         if name.extension().is_none() && name.components().count() == 1 {
             return BUILT_IN
@@ -163,19 +164,20 @@ pub struct IkGainsFile {
     pub stabilizer: Option<StabilizerGains>,
 }
 
-/// Reads gains of type `T` from `path`, or from the built-in `default` text when None, with
+/// Reads gains of type `T` from `source`, or from the built-in `default` text when None, with
 /// the values of `overrides` (a scenario's `[controller.set]` table, e.g.
 /// `posture.weight = 1e-3`) replacing the file's.
 pub fn load<T: serde::de::DeserializeOwned>(
-    path: Option<&Path>,
+    source: Option<&GainsSource>,
     default: &str,
     overrides: &toml::Table,
 ) -> Result<T> {
-    let (mut text, mut name) = match path {
-        Some(p) => (
+    let (mut text, mut name) = match source {
+        Some(GainsSource::File(p)) => (
             std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?,
             p.display().to_string(),
         ),
+        Some(GainsSource::BuiltIn(t)) => (t.to_string(), "built-in gains".to_string()),
         None => (default.to_string(), "built-in gains".to_string()),
     };
     if !overrides.is_empty() {

@@ -202,16 +202,10 @@ pub fn run_scenario(
     let Some(section) = &scenario.controller else {
         bail!("no [controller] section: this is a `corps sim` scenario");
     };
-    let source = match &section.gains {
-        Some(p) => Some(gains::GainsSource::resolve(p, base_dir).context("controller.gains")?),
-        None => None,
-    };
-    // (file, built-in text) for `gains::load`, the kind's default text filled in below.
-    let (gains_path, built_in) = match source {
-        Some(gains::GainsSource::File(p)) => (Some(p), None),
-        Some(gains::GainsSource::BuiltIn(t)) => (None, Some(t)),
-        None => (None, None),
-    };
+    let source = (section.gains.as_ref())
+        .map(|p| gains::GainsSource::resolve(p, base_dir))
+        .transpose()
+        .context("controller.gains")?;
     let Setup {
         model,
         mut sim,
@@ -242,12 +236,8 @@ pub fn run_scenario(
             } else {
                 (TsidMode::Position, gains::TSID_POSITION)
             };
-            let g: gains::TsidGains = gains::load(
-                gains_path.as_deref(),
-                built_in.unwrap_or(default),
-                &section.set,
-            )
-            .context("controller.gains")?;
+            let g: gains::TsidGains =
+                gains::load(source.as_ref(), default, &section.set).context("controller.gains")?;
             let stabilizer = g.stabilizer.clone();
             let inner = TsidController::new(model.clone(), mode, g, dt, &q, &v, &q0)
                 .context("controller")?;
@@ -262,12 +252,9 @@ pub fn run_scenario(
             }
         }
         ControllerKind::IkPosition => {
-            let g: gains::IkGainsFile = gains::load(
-                gains_path.as_deref(),
-                built_in.unwrap_or(gains::IK_POSITION),
-                &section.set,
-            )
-            .context("controller.gains")?;
+            let g: gains::IkGainsFile =
+                gains::load(source.as_ref(), gains::IK_POSITION, &section.set)
+                    .context("controller.gains")?;
             let stabilizer = g.stabilizer.clone();
             let inner = IkController::new(model.clone(), g, dt, &q, &q0).context("controller")?;
             match stabilizer {
