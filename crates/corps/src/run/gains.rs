@@ -125,7 +125,7 @@ impl StabilizerGains {
             ("stabilizer.ankle_gain", self.ankle_gain),
             ("stabilizer.sway_damping", self.sway_damping.unwrap_or(0.0)),
         ] {
-            check_positive(name, x)?;
+            check_non_negative(name, x)?;
         }
         Ok(())
     }
@@ -207,7 +207,7 @@ fn merge(base: &mut toml::Table, over: &toml::Table) {
     }
 }
 
-fn check_positive(what: &str, x: f64) -> Result<()> {
+fn check_non_negative(what: &str, x: f64) -> Result<()> {
     if !(x >= 0.0 && x.is_finite()) {
         bail!("{what} = {x}: must be finite and not negative");
     }
@@ -221,26 +221,26 @@ impl TsidGains {
             .into_iter()
             .chain(self.waist.as_ref().map(|w| ("waist", w)))
         {
-            check_positive(&format!("{name}.kp"), g.kp)?;
-            check_positive(&format!("{name}.kd"), g.kd())?;
-            check_positive(&format!("{name}.weight"), g.weight)?;
+            check_non_negative(&format!("{name}.kp"), g.kp)?;
+            check_non_negative(&format!("{name}.kd"), g.kd())?;
+            check_non_negative(&format!("{name}.weight"), g.weight)?;
         }
-        check_positive("posture.kp", self.posture.kp)?;
-        check_positive("posture.weight", self.posture.weight)?;
+        check_non_negative("posture.kp", self.posture.kp)?;
+        check_non_negative("posture.weight", self.posture.weight)?;
         for (group, values) in &self.posture.groups {
             for x in values {
-                check_positive(&format!("posture.groups.{group}"), *x)?;
+                check_non_negative(&format!("posture.groups.{group}"), *x)?;
             }
         }
-        check_positive("angular_momentum.kp", self.angular_momentum.kp)?;
-        check_positive("angular_momentum.weight", self.angular_momentum.weight)?;
+        check_non_negative("angular_momentum.kp", self.angular_momentum.kp)?;
+        check_non_negative("angular_momentum.weight", self.angular_momentum.weight)?;
         let c = &self.contacts;
-        check_positive("contacts.kp", c.kp)?;
-        check_positive("contacts.kd", c.kd.unwrap_or(0.0))?;
-        check_positive("contacts.fmin", c.fmin)?;
-        check_positive("contacts.force_regularization", c.force_regularization)?;
-        check_positive("contacts.transition", c.transition)?;
-        check_positive("safe_damping", self.safe_damping)?;
+        check_non_negative("contacts.kp", c.kp)?;
+        check_non_negative("contacts.kd", c.kd.unwrap_or(0.0))?;
+        check_non_negative("contacts.fmin", c.fmin)?;
+        check_non_negative("contacts.force_regularization", c.force_regularization)?;
+        check_non_negative("contacts.transition", c.transition)?;
+        check_non_negative("safe_damping", self.safe_damping)?;
         if let Some(s) = &self.stabilizer {
             s.check()?;
         }
@@ -294,7 +294,7 @@ impl IkGainsFile {
             ("waist", self.waist),
             ("posture", self.posture),
         ] {
-            check_positive(name, x)?;
+            check_non_negative(name, x)?;
         }
         if let Some(s) = &self.stabilizer {
             s.check()?;

@@ -319,7 +319,7 @@ pub fn run_scenario(
     for tick in 0..ticks {
         let t = tick as f64 * dt;
         plan.sample(t, &mut targets);
-        let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
+        let (q, v) = (sim.q().as_slice(), sim.v().as_slice());
         // What the sensors tell: CoM (base estimator), soles, contact wrenches (F/T).
         let (com, placements) = com_and_soles(&model, &mut data, &sim, &soles, &zeros)?;
         let contact = measure_contacts(&sim, &foot_joints, &placements);
@@ -331,7 +331,7 @@ pub fn run_scenario(
             foot_wrenches: contact.foot_wrenches,
         };
         let start = Instant::now();
-        let reason = ctrl.tick(t, q.as_slice(), v.as_slice(), &targets, &measured);
+        let reason = ctrl.tick(t, q, v, &targets, &measured);
         let us = start.elapsed().as_secs_f64() * 1e6;
         tick_us.push(us);
         if let Some(r) = reason {
