@@ -361,7 +361,7 @@ pub fn run_scenario(
         pgm.push(
             sim.applied_torques().as_slice(),
             &ankles,
-            [targets.feet[0].in_contact, targets.feet[1].in_contact],
+            [targets.feet[0].supporting, targets.feet[1].supporting],
         );
         sim.step(ctrl.command())?;
         if tick % 50 == 0 {
@@ -564,8 +564,8 @@ fn record(
             stat.push(s.feet[k][a] - r[a]);
         }
         foot.force_peak = foot.force_peak.max(s.contact.foot_fz[k]);
-        // Slip: horizontal motion while the target says "in contact" and the foot is loaded.
-        if target.in_contact && s.contact.foot_fz[k] > ZMP_MIN_FZ {
+        // Slip: horizontal motion while the plan has the foot on the ground and it is loaded.
+        if target.supporting && s.contact.foot_fz[k] > ZMP_MIN_FZ {
             let start = *contact_start[k].get_or_insert(s.feet[k]);
             foot.slip = foot.slip.max((s.feet[k] - start).xy().norm());
         } else {

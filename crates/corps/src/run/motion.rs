@@ -134,11 +134,18 @@ impl MotionSection {
     }
 }
 
-/// One foot's target: where it should be, and whether it should be in contact.
+/// One foot's target: where it should be, whether the controller should hold it as a contact,
+/// and whether the plan has it on the ground.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FootTarget {
     pub reference: Se3Reference,
+    /// The controller's contact: a walk releases it ahead of lift-off so that its force has
+    /// ramped to zero by then (`[motion] release`).
     pub in_contact: bool,
+    /// The plan's support phase: the foot is planned on the ground (no early release). The
+    /// stabilizer's support polygon and wrench distribution, the gait phases of the metrics
+    /// and the slip measure follow this, since the foot carries weight until it lifts.
+    pub supporting: bool,
 }
 
 /// What the controller is asked at one tick.
@@ -162,10 +169,10 @@ impl Targets {
         [0, 1].map(|k| c.pos[k] - h / gravity * c.acc[k])
     }
 
-    /// Mean height of the feet targets in contact (0 when none is).
+    /// Mean height of the supporting feet targets (0 when none is).
     pub fn contact_ground(&self) -> f64 {
-        let in_contact = self.feet.iter().filter(|f| f.in_contact);
-        let (z, n) = in_contact.fold((0.0, 0.0), |(z, n), f| {
+        let supporting = self.feet.iter().filter(|f| f.supporting);
+        let (z, n) = supporting.fold((0.0, 0.0), |(z, n), f| {
             (z + f.reference.placement.translation.z, n + 1.0)
         });
         if n > 0.0 {
@@ -253,6 +260,7 @@ impl MotionPlan {
                 acceleration: Motion::zero(),
             },
             in_contact: true,
+            supporting: true,
         };
         Targets {
             com: Reference::constant(DVector::from_column_slice(self.com0.as_slice())),
@@ -350,6 +358,7 @@ impl MotionPlan {
                 let swing = 1 - support.index();
                 let foot = &mut out.feet[swing];
                 foot.in_contact = t < *shift;
+                foot.supporting = t < shift + release;
                 let start = self.feet0[swing].translation;
                 let r = MinJerk {
                     start: DVector::from_column_slice(start.as_slice()),

@@ -305,6 +305,7 @@ impl WalkMotion {
                 &self.feet_rotation0[k],
             );
             out.feet[k].in_contact = self.contact[i][k];
+            out.feet[k].supporting = [r.phase.left_in_contact(), r.phase.right_in_contact()][k];
         }
     }
 }
@@ -333,4 +334,63 @@ fn write_foot(
         Vector3::new(vel.x - prev.x, vel.y - prev.y, vel.z - prev.z) / dt,
         Vector3::new(0.0, 0.0, (vel.yaw - prev.yaw) / dt),
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use corps_control::tasks::{Reference, Se3Reference};
+    use nalgebra::Matrix3;
+
+    fn section() -> WalkSection {
+        toml::from_str("steps = 2\nstep_length = 0.2").unwrap()
+    }
+
+    fn targets(feet0: &[Se3; 2]) -> Targets {
+        let foot = |m: Se3| FootTarget {
+            reference: Se3Reference {
+                placement: m,
+                velocity: Motion::zero(),
+                acceleration: Motion::zero(),
+            },
+            in_contact: true,
+            supporting: true,
+        };
+        Targets {
+            com: Reference::constant(DVector::zeros(3)),
+            feet: [foot(feet0[0]), foot(feet0[1])],
+            waist_yaw: 0.0,
+        }
+    }
+
+    /// The controller's contact of the leaving foot is released over the double support, the
+    /// plan's support keeps it until lift-off; both agree in single support.
+    #[test]
+    fn contact_is_released_before_lift_off_while_support_lasts_until_it() {
+        let dt = 1e-3;
+        let feet0 = [
+            Se3::new(Matrix3::identity(), Vector3::new(0.0, 0.085, 0.0)),
+            Se3::new(Matrix3::identity(), Vector3::new(0.0, -0.085, 0.0)),
+        ];
+        let w = WalkMotion::new(&section(), &feet0, 0.87, dt, 6.0).unwrap();
+        let mut out = targets(&feet0);
+        let (mut released_but_supporting, mut single) = (0, 0);
+        for k in 0..6000 {
+            w.sample(k as f64 * dt, &mut out);
+            for f in &out.feet {
+                // A held contact is always a supporting foot.
+                assert!(!f.in_contact || f.supporting, "t = {}", k as f64 * dt);
+                if f.supporting && !f.in_contact {
+                    released_but_supporting += 1;
+                }
+            }
+            if out.feet[0].supporting != out.feet[1].supporting {
+                single += 1;
+                assert_eq!(out.feet[0].in_contact, out.feet[0].supporting);
+            }
+        }
+        // Three lift-offs (two steps and the closing step), each released 0.115 s early.
+        assert_eq!(released_but_supporting, 3 * 115);
+        assert!(single > 2 * 900, "{single} single-support ticks");
+    }
 }

@@ -90,6 +90,10 @@ impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C>
         targets: &Targets,
         measured: &Measured,
     ) -> Option<FallbackReason> {
+        // The controller's contacts, not the plan's support: the distribution unloads the
+        // leaving foot on the same early-release schedule as the whole-body controller. (With
+        // the plan's support phase instead, the IK 20 cm walk's ZMP error peaks went from
+        // 62.6 / 58.4 to 83.6 / 80.2 mm, x / y, and the x average from 9.2 to 12.1 mm.)
         let phase = match (targets.feet[0].in_contact, targets.feet[1].in_contact) {
             (true, false) => ContactPhase::LeftSupport,
             (false, true) => ContactPhase::RightSupport,
