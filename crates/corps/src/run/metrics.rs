@@ -124,6 +124,18 @@ pub struct WalkMetrics {
     /// Passivity gait measure (seed 000 Eq 4.17–4.18) in double support, single support and
     /// for the flying foot.
     pub passivity_gait_measure: [Option<f64>; 3],
+    /// The dynamic filter's pass on the plan, when it ran.
+    pub dynamic_filter: Option<DynamicFilterMetrics>,
+}
+
+/// The plan's multibody ZMP error before and after the dynamic filter (kinematic replay).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct DynamicFilterMetrics {
+    /// RMS and peak per axis (m), x then y.
+    pub before: [(f64, f64); 2],
+    pub after: [(f64, f64); 2],
+    /// Largest CoM correction per axis (m).
+    pub max_correction: [f64; 2],
 }
 
 /// Everything measured during a run.
@@ -241,6 +253,22 @@ impl fmt::Display for Metrics {
                 w.distance,
                 w.final_base_error * 1e3
             )?;
+            if let Some(d) = &w.dynamic_filter {
+                writeln!(
+                    f,
+                    "  dynamic filter: plan's multibody ZMP error RMS/peak x {:.1}/{:.1}, y {:.1}/{:.1} mm → x {:.1}/{:.1}, y {:.1}/{:.1} mm; CoM corrected by up to {:.1} / {:.1} mm",
+                    d.before[0].0 * 1e3,
+                    d.before[0].1 * 1e3,
+                    d.before[1].0 * 1e3,
+                    d.before[1].1 * 1e3,
+                    d.after[0].0 * 1e3,
+                    d.after[0].1 * 1e3,
+                    d.after[1].0 * 1e3,
+                    d.after[1].1 * 1e3,
+                    d.max_correction[0] * 1e3,
+                    d.max_correction[1] * 1e3
+                )?;
+            }
             write!(
                 f,
                 "  cost of transport C_et {:.2}, C_mt {:.2}",

@@ -19,6 +19,7 @@
 //! ```
 
 pub mod controller;
+pub mod dynamic_filter;
 pub mod gains;
 mod gait;
 mod metrics;
@@ -27,7 +28,9 @@ mod plots;
 pub mod walk;
 
 pub use controller::{ControllerKind, WholeBodyController};
-pub use metrics::{FootMetrics, Metrics, Stat, ThesisFigures, TickTime, WalkMetrics};
+pub use metrics::{
+    DynamicFilterMetrics, FootMetrics, Metrics, Stat, ThesisFigures, TickTime, WalkMetrics,
+};
 pub use motion::{MotionSection, Side, Targets};
 
 use crate::sim_cmd::scenario::Scenario;
@@ -275,7 +278,7 @@ pub fn run_scenario(
     let zeros = DVector::zeros(model.nv);
     let (com0, feet0) = com_and_soles(&model, &mut data, &sim, &soles, &zeros)?;
     let ticks = (scenario.duration / dt).round() as usize;
-    let plan = MotionPlan::new(
+    let mut plan = MotionPlan::new(
         scenario.motion.clone(),
         com0,
         feet0,
@@ -283,6 +286,21 @@ pub fn run_scenario(
         scenario.duration,
         base_dir,
     )?;
+    let dynamic_filter = match &scenario.motion {
+        MotionSection::Walk(w) if w.dynamic_filter => {
+            let sole_z = (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
+            let height = w.com_height.unwrap_or(com0.z - sole_z);
+            let r =
+                dynamic_filter::filter_walk(&model, &q, &q0, &mut plan, ticks, dt, GRAVITY, height)
+                    .context("motion.dynamic_filter")?;
+            Some(DynamicFilterMetrics {
+                before: r.before,
+                after: r.after,
+                max_correction: r.max_correction,
+            })
+        }
+        _ => None,
+    };
     let mut targets = plan.initial_targets();
     let mut m = Metrics {
         scenario: name.to_string(),
@@ -393,6 +411,7 @@ pub fn run_scenario(
             cost_of_transport: m.work / weight,
             mechanical_cost_of_transport: m.positive_work / weight,
             passivity_gait_measure: pgm.values(),
+            dynamic_filter,
         });
     }
     for (k, foot) in m.feet.iter_mut().enumerate() {

@@ -158,15 +158,21 @@ pub struct Targets {
     /// Waist (base) yaw about the world z axis, relative to its start (walks: the mean of
     /// the feet yaws, seed 002 §4.13).
     pub waist_yaw: f64,
+    /// The dynamic filter's CoM correction included in `com` (x, y): position and
+    /// acceleration; zero without the filter.
+    pub com_correction: [[f64; 2]; 2],
 }
 
 impl Targets {
-    /// The ZMP of the CoM reference on the ground at height `ground` (LIPM, seed 000 Eq 2.22):
-    /// `p = c − (c_z − z_ground)/g · c̈`, world x and y.
+    /// The ZMP of the planned CoM on the ground at height `ground` (LIPM, seed 000 Eq 2.22):
+    /// `p = c − (c_z − z_ground)/g · c̈`, world x and y, with `c` the CoM reference before
+    /// the dynamic filter's correction: the filter moves the CoM so that the whole body's ZMP
+    /// lands on this one (seed 002 §4.5).
     pub fn reference_zmp(&self, ground: f64, gravity: f64) -> [f64; 2] {
         let c = &self.com;
         let h = c.pos[2] - ground;
-        [0, 1].map(|k| c.pos[k] - h / gravity * c.acc[k])
+        let [dc, ddc] = self.com_correction;
+        [0, 1].map(|k| (c.pos[k] - dc[k]) - h / gravity * (c.acc[k] - ddc[k]))
     }
 
     /// Mean height of the supporting feet targets (0 when none is).
@@ -251,6 +257,11 @@ impl MotionPlan {
         self.walk.as_ref()
     }
 
+    /// The walk, to correct it before the run.
+    pub fn walk_mut(&mut self) -> Option<&mut WalkMotion> {
+        self.walk.as_mut()
+    }
+
     /// The targets at rest at the starting pose.
     pub fn initial_targets(&self) -> Targets {
         let foot = |m: Se3| FootTarget {
@@ -266,6 +277,7 @@ impl MotionPlan {
             com: Reference::constant(DVector::from_column_slice(self.com0.as_slice())),
             feet: [foot(self.feet0[0]), foot(self.feet0[1])],
             waist_yaw: 0.0,
+            com_correction: [[0.0; 2]; 2],
         }
     }
 

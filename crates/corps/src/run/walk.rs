@@ -47,6 +47,11 @@ pub struct WalkSection {
     /// steps need it lower (the stance leg would otherwise reach full extension): the CoM
     /// moves there (min-jerk) while the robot stands before the plan starts.
     pub com_height: Option<f64>,
+    /// Run the dynamic filter (seed 002 §2.2.2) on the plan before the run: a kinematic IK
+    /// replay measures the whole body's ZMP and one preview-control pass corrects the CoM
+    /// (`crate::run::dynamic_filter`). Default off.
+    #[serde(default)]
+    pub dynamic_filter: bool,
 }
 
 fn single_support() -> f64 {
@@ -145,6 +150,8 @@ pub struct WalkMotion {
     samples: Vec<WalkingReference>,
     /// Contact flags with the early release applied, per sample.
     contact: Vec<[bool; 2]>,
+    /// The dynamic filter's correction per sample (empty without it).
+    com_correction: Vec<[[f64; 2]; 2]>,
     dt: f64,
     origin: Vector3<f64>,
     feet_rotation0: [nalgebra::Matrix3<f64>; 2],
@@ -261,10 +268,30 @@ impl WalkMotion {
         Self {
             samples,
             contact,
+            com_correction: Vec::new(),
             dt,
             origin,
             feet_rotation0: [feet0[0].rotation, feet0[1].rotation],
             lead_time,
+        }
+    }
+
+    /// Adds the dynamic filter's correction `[Δc, Δċ, Δc̈]` (x, then y; one per sample from
+    /// the handover) to the planned CoM; the reference ZMP stays the plan's
+    /// ([`Targets::com_correction`]).
+    pub fn correct_com(&mut self, dx: &[Vector3<f64>], dy: &[Vector3<f64>]) {
+        self.com_correction = dx
+            .iter()
+            .zip(dy)
+            .map(|(cx, cy)| [[cx[0], cy[0]], [cx[2], cy[2]]])
+            .collect();
+        for ((s, cx), cy) in self.samples.iter_mut().zip(dx).zip(dy) {
+            s.com.x += cx[0];
+            s.com_vel.x += cx[1];
+            s.com_acc.x += cx[2];
+            s.com.y += cy[0];
+            s.com_vel.y += cy[1];
+            s.com_acc.y += cy[2];
         }
     }
 
@@ -294,6 +321,7 @@ impl WalkMotion {
             (&r.right_foot, &r.right_foot_vel, &prev.right_foot_vel),
         ];
         out.waist_yaw = r.waist_yaw;
+        out.com_correction = self.com_correction.get(i).copied().unwrap_or([[0.0; 2]; 2]);
         for (k, (pose, vel, prev_vel)) in feet.into_iter().enumerate() {
             write_foot(
                 &mut out.feet[k],
@@ -360,6 +388,7 @@ mod tests {
             com: Reference::constant(DVector::zeros(3)),
             feet: [foot(feet0[0]), foot(feet0[1])],
             waist_yaw: 0.0,
+            com_correction: [[0.0; 2]; 2],
         }
     }
 
