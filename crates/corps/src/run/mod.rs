@@ -282,6 +282,7 @@ pub fn run_scenario(
         dt,
         scenario.duration,
         base_dir,
+        sim.terrain(),
     )?;
     let mut targets = plan.initial_targets();
     let mut m = Metrics {
