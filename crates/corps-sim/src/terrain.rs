@@ -292,9 +292,10 @@ mod tests {
             assert!((n - expected).norm() < 1e-12, "{n:?}");
             // the solid is just below the top, not just above it
             let p = Vector3::new(x, side * PLATFORM_FOOT_Y, z);
-            assert!(t.surfaces.iter().any(|s| s
-                .penetration(&(p - Vector3::z() * 1e-4))
-                .is_some()));
+            assert!(t
+                .surfaces
+                .iter()
+                .any(|s| s.penetration(&(p - Vector3::z() * 1e-4)).is_some()));
             assert!(t
                 .surfaces
                 .iter()
@@ -302,20 +303,32 @@ mod tests {
         }
         // rising outwards by tan(10°) per metre, from the inner edge
         let (z_in, _) = t.surface_at(0.75, -(PLATFORM_INNER_Y + 1e-3)).unwrap();
-        let (z_out, _) = t.surface_at(0.75, -(PLATFORM_INNER_Y + PLATFORM_WIDTH - 1e-3)).unwrap();
+        let (z_out, _) = t
+            .surface_at(0.75, -(PLATFORM_INNER_Y + PLATFORM_WIDTH - 1e-3))
+            .unwrap();
         assert!((z_out - z_in - (PLATFORM_WIDTH - 2e-3) * roll.tan()).abs() < 1e-12);
         // flat ground between them, before, beside and after
-        for (x, y) in [(0.75, 0.0), (0.0, 0.085), (0.25, -0.085), (1.25, -0.085), (1.5, 0.085)] {
+        for (x, y) in [
+            (0.75, 0.0),
+            (0.0, 0.085),
+            (0.25, -0.085),
+            (1.25, -0.085),
+            (1.5, 0.085),
+        ] {
             let (z, n) = t.surface_at(x, y).unwrap();
             assert!(z == 0.0 && n == Vector3::z(), "({x}, {y})");
         }
         // the slabs reach below the ground at their outer edges
         for s in &t.surfaces[1..] {
-            let Surface::Box { pose, half_extents, .. } = s else {
+            let Surface::Box {
+                pose, half_extents, ..
+            } = s
+            else {
                 panic!("a box")
             };
             for sy in [-1.0, 1.0] {
-                let corner = pose.act_point(&Vector3::new(0.0, sy * half_extents.y, -half_extents.z));
+                let corner =
+                    pose.act_point(&Vector3::new(0.0, sy * half_extents.y, -half_extents.z));
                 assert!(corner.z < 0.0, "{corner:?}");
             }
         }

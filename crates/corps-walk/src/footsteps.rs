@@ -190,8 +190,10 @@ impl FootstepPlan {
                 Ok(Footstep { foot: s.foot, pose })
             })
             .collect::<Result<Vec<_>, WalkError>>()?;
-        Ok(Self::new(self.initial_left, self.initial_right, steps, self.timing)?
-            .with_swing_height(self.swing_height))
+        Ok(
+            Self::new(self.initial_left, self.initial_right, steps, self.timing)?
+                .with_swing_height(self.swing_height),
+        )
     }
 
     /// Sets the swing apex height (m).

@@ -195,7 +195,10 @@ mod tests {
             (PI, Vector3::z()),
         ] {
             let f = FootPose::on_surface(0.1, 0.2, 0.05, yaw, &n).unwrap();
-            assert!((f.sole_normal() - n.normalize()).norm() < 1e-12, "{yaw} {n:?}");
+            assert!(
+                (f.sole_normal() - n.normalize()).norm() < 1e-12,
+                "{yaw} {n:?}"
+            );
             // the yaw stays the heading: the sole's x axis lies in the vertical plane of yaw
             let x = f.rotation() * Vector3::x();
             assert!((x.y * yaw.cos() - x.x * yaw.sin()).abs() < 1e-12);
