@@ -8,12 +8,24 @@
 //! stays. The ZMP reference is the support foot's centre in single support and moves linearly
 //! in double support (Kajita 2003 §IV; the piecewise-linear reference of CCC's
 //! `FootstepManager`).
+//!
+//! Footholds on uneven ground ([`FootstepPlan::on_ground`]): each footstep takes the height
+//! and the tilt of the surface under its sole centre (the sole's normal is the surface's), the
+//! swing foot interpolates to that tilt, and the ZMP reference stays the support sole's centre
+//! (its projection on the horizontal plane, at the sole's height).
 
 use crate::pose::{FootPose, FootVelocity};
 use crate::reference::ContactPhase;
 use crate::swing_foot::{SwingTrajectory, DEFAULT_APEX_HEIGHT};
 use crate::{Foot, WalkError};
 use nalgebra::Vector3;
+
+/// The ground under the footsteps: the top surface crossing the vertical line through a point.
+pub trait Ground {
+    /// Height of the top surface above `(x, y)` and its upward unit normal there, `None` where
+    /// there is no surface.
+    fn surface_at(&self, x: f64, y: f64) -> Option<(f64, Vector3<f64>)>;
+}
 
 /// One step: which foot moves and where it lands.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -133,7 +145,8 @@ impl FootstepPlan {
         let mut liftoff = Vec::with_capacity(steps.len());
         for s in &steps {
             let p = s.pose;
-            if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite() && p.yaw.is_finite()) {
+            let coordinates = [p.x, p.y, p.z, p.yaw, p.roll, p.pitch];
+            if !coordinates.iter().all(|c| c.is_finite()) {
                 return Err(WalkError::InvalidParameter("footstep pose must be finite"));
             }
             match s.foot {
@@ -155,6 +168,32 @@ impl FootstepPlan {
             timing,
             swing_height: DEFAULT_APEX_HEIGHT,
         })
+    }
+
+    /// The same plan with every footstep moved onto `ground`: its height becomes the surface's
+    /// under the sole centre and its roll and pitch those that lay the sole on the surface
+    /// ([`FootPose::on_surface`]); x, y, yaw and the timing are kept. The initial feet stay where
+    /// they are (they are measured). Fails if a footstep has no surface under it or the surface
+    /// is vertical.
+    pub fn on_ground(self, ground: &impl Ground) -> Result<Self, WalkError> {
+        let steps = self
+            .steps
+            .iter()
+            .map(|s| {
+                let p = s.pose;
+                let (z, normal) = ground
+                    .surface_at(p.x, p.y)
+                    .ok_or(WalkError::InvalidParameter("no ground under a footstep"))?;
+                let pose = FootPose::on_surface(p.x, p.y, z, p.yaw, &normal).ok_or(
+                    WalkError::InvalidParameter("the ground under a footstep is not walkable"),
+                )?;
+                Ok(Footstep { foot: s.foot, pose })
+            })
+            .collect::<Result<Vec<_>, WalkError>>()?;
+        Ok(
+            Self::new(self.initial_left, self.initial_right, steps, self.timing)?
+                .with_swing_height(self.swing_height),
+        )
     }
 
     /// Sets the swing apex height (m).
@@ -486,6 +525,71 @@ mod tests {
         let s = plan.sample(plan.duration() + 5.0);
         let (l, r) = plan.final_feet();
         assert!((s.zmp - mid(&l, &r)).norm() < 1e-12);
+    }
+
+    /// Two platforms beside each other for x in [0.3, 1.2], rolled ±10° (a valley: each rises
+    /// outwards), 3.5 cm high at y = ±0.085; flat ground elsewhere.
+    struct Platforms;
+
+    impl Ground for Platforms {
+        fn surface_at(&self, x: f64, y: f64) -> Option<(f64, Vector3<f64>)> {
+            if !(0.3..=1.2).contains(&x) || y.abs() > 0.3 {
+                return Some((0.0, Vector3::z()));
+            }
+            let t = 10f64.to_radians().tan();
+            let z = 0.035 + t * (y.abs() - 0.085);
+            Some((z, Vector3::new(0.0, -t * y.signum(), 1.0).normalize()))
+        }
+    }
+
+    #[test]
+    fn footsteps_on_tilted_platforms_lie_on_the_surface() {
+        let timing = StepTiming::seed000_nominal();
+        let plan = FootstepPlan::straight(6, 0.25, 0.17, Foot::Right, timing)
+            .unwrap()
+            .on_ground(&Platforms)
+            .unwrap();
+        assert_eq!(plan.steps().len(), 7);
+        let mut tilted = 0;
+        for s in plan.steps() {
+            let p = s.pose;
+            let (z, n) = Platforms.surface_at(p.x, p.y).unwrap();
+            assert!((p.z - z).abs() < 1e-12);
+            // the sole's normal is the surface normal, the heading is kept
+            assert!((p.sole_normal() - n).norm() < 1e-12, "{p:?}");
+            assert!(p.yaw.abs() < 1e-12 && p.pitch.abs() < 1e-12);
+            if n.z < 1.0 {
+                tilted += 1;
+                // the left sole's normal leans to −y (a positive roll), the right's to +y
+                assert!((p.roll.abs() - 10f64.to_radians()).abs() < 1e-12);
+                assert_eq!(p.roll.signum(), s.foot.side());
+            }
+        }
+        assert_eq!(tilted, 3, "left at 0.5 and 1.0, right at 0.75");
+        // every swing lands at rest on its foothold: the sample at touch-down is the footstep
+        for (i, s) in plan.steps().iter().enumerate() {
+            let at = plan.sample(plan.touchdown_time(i) - 1e-9);
+            let (pose, vel) = match s.foot {
+                Foot::Left => (at.left, at.left_vel),
+                Foot::Right => (at.right, at.right_vel),
+            };
+            assert!((pose.position() - s.pose.position()).norm() < 1e-9);
+            assert!((pose.sole_normal() - s.pose.sole_normal()).norm() < 1e-9);
+            assert!(vel.linear().norm() < 1e-6 && vel.angular(&pose).norm() < 1e-6);
+        }
+        // the ZMP reference follows the support sole's height
+        let s = plan.sample(plan.touchdown_time(2) - 0.1);
+        assert_eq!(s.phase, ContactPhase::LeftSupport);
+        assert!((s.zmp.z - 0.035).abs() < 1e-12);
+        // a footstep off the ground is an error, not a panic
+        struct Cliff;
+        impl Ground for Cliff {
+            fn surface_at(&self, x: f64, _: f64) -> Option<(f64, Vector3<f64>)> {
+                (x < 0.5).then_some((0.0, Vector3::z()))
+            }
+        }
+        let plan = FootstepPlan::straight(6, 0.25, 0.17, Foot::Right, timing).unwrap();
+        assert!(plan.on_ground(&Cliff).is_err());
     }
 
     #[test]

@@ -9,7 +9,7 @@
 //! |---|---|---|
 //! | [`lipm`], [`dcm`] | cart-table / LIPM, jerk-input model, DCM | seed 002 §4.1, Kajita 2003, Englsberger 2015 |
 //! | [`support_polygon`] | soles, hulls, signed distance, half-spaces | seed 002 §4.2 |
-//! | [`footsteps`] | timed footstep plans, ZMP reference, phase | seed 000 §4 (20/60 cm, stairs) |
+//! | [`footsteps`] | timed footstep plans, ZMP reference, phase, footholds on tilted ground | seed 000 §4 (20/60 cm, stairs, platforms) |
 //! | [`swing_foot`] | quintic swing with apex | seed 002 §4.4 (5 cm) |
 //! | [`preview_control`], [`riccati`] | Kajita 2003 preview control, DARE | anchors §4.3 golden gains |
 //! | [`preview_walk`] | preview control over a footstep plan | Kajita 2003 |
@@ -64,7 +64,7 @@ pub mod support_polygon;
 pub mod swing_foot;
 
 pub use error::WalkError;
-pub use footsteps::{Footstep, FootstepPlan, PlanSample, StepTiming};
+pub use footsteps::{Footstep, FootstepPlan, Ground, PlanSample, StepTiming};
 pub use lipm::{JerkModel, Lipm};
 pub use pose::{waist_yaw, Foot, FootPose, FootVelocity};
 pub use reference::{ContactPhase, WalkingReference};

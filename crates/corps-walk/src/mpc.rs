@@ -1176,6 +1176,7 @@ impl WalkingMpc {
                     y: vel.y,
                     z: zv.z,
                     yaw: vel.z,
+                    ..Default::default()
                 },
             );
             if self.frozen.is_none() && period - self.t_in_step <= self.p.freeze_time + 1e-9 {

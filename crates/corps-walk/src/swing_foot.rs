@@ -7,7 +7,9 @@
 //! vanish at both ends and at mid-swing the foot is `h` above the higher of the two soles (on
 //! flat ground the apex is exactly `h`: 5 cm by default, seed 002 §4.4 `:stepheight 0.05`; on
 //! stairs the foot passes the stair edge height plus `h`). The yaw is interpolated along the
-//! shortest arc.
+//! shortest arc; the roll and pitch of the sole (a foothold on a tilted surface) follow the
+//! same rest-to-rest quintics, so the foot reaches the tilt of its landing pose with zero
+//! angular velocity and acceleration.
 
 use crate::pose::{angle_difference, wrap_angle, FootPose, FootVelocity};
 
@@ -93,6 +95,8 @@ pub struct SwingTrajectory {
     y: Quintic,
     z: Quintic,
     yaw: Quintic,
+    roll: Quintic,
+    pitch: Quintic,
     apex: f64,
     duration: f64,
 }
@@ -108,6 +112,8 @@ impl SwingTrajectory {
             y: Quintic::rest_to_rest(start.y, end.y, duration),
             z: Quintic::rest_to_rest(start.z, end.z, duration),
             yaw: Quintic::rest_to_rest(start.yaw, start.yaw + dyaw, duration),
+            roll: Quintic::rest_to_rest(start.roll, end.roll, duration),
+            pitch: Quintic::rest_to_rest(start.pitch, end.pitch, duration),
             apex,
             duration: duration.max(0.0),
         }
@@ -124,6 +130,8 @@ impl SwingTrajectory {
         let (y, vy, _) = self.y.sample(t);
         let (mut z, mut vz, _) = self.z.sample(t);
         let (yaw, vyaw, _) = self.yaw.sample(t);
+        let (roll, vroll, _) = self.roll.sample(t);
+        let (pitch, vpitch, _) = self.pitch.sample(t);
         if self.duration > 0.0 && t > 0.0 && t < self.duration {
             let s = t / self.duration;
             let (b, db, _) = bump(s);
@@ -136,12 +144,16 @@ impl SwingTrajectory {
                 y,
                 z,
                 yaw: wrap_angle(yaw),
+                roll,
+                pitch,
             },
             FootVelocity {
                 x: vx,
                 y: vy,
                 z: vz,
                 yaw: vyaw,
+                roll: vroll,
+                pitch: vpitch,
             },
         )
     }
@@ -234,6 +246,42 @@ mod tests {
             let fd_az = (tr.sample(t + 1e-5).1.z - tr.sample(t - 1e-5).1.z) / 2e-5;
             assert!((fd_az - tr.vertical_acceleration(t)).abs() < 1e-5);
         }
+    }
+
+    #[test]
+    fn swing_lands_on_a_tilted_foothold_at_rest() {
+        use nalgebra::Vector3;
+        let s = FootPose::new(0.0, -0.085, 0.0, 0.0);
+        let n = Vector3::new(0.0, 10f64.to_radians().sin(), 10f64.to_radians().cos());
+        let e = FootPose::on_surface(0.5, -0.085, 0.035, 0.1, &n).unwrap();
+        let tr = SwingTrajectory::new(&s, &e, 0.9, DEFAULT_APEX_HEIGHT);
+        let (end, v) = tr.sample(0.9);
+        assert!((end.sole_normal() - n).norm() < 1e-12);
+        assert!((end.position() - e.position()).norm() < 1e-12);
+        assert!(v.linear().norm() < 1e-14 && v.angular(&end).norm() < 1e-14);
+        // one-sided differences: the tilt comes to rest (velocity and acceleration vanish)
+        let h = 1e-5;
+        let (p1, _) = tr.sample(0.9 - h);
+        let (p2, _) = tr.sample(0.9 - 2.0 * h);
+        for (a, b, c) in [
+            (end.roll, p1.roll, p2.roll),
+            (end.pitch, p1.pitch, p2.pitch),
+        ] {
+            assert!(((a - b) / h).abs() < 1e-8);
+            assert!(((a - 2.0 * b + c) / (h * h)).abs() < 1e-3);
+        }
+        // the Euler rates are the derivatives of the angles mid-swing
+        for &t in &[0.2, 0.45, 0.7] {
+            let (a, _) = tr.sample(t - 1e-6);
+            let (b, _) = tr.sample(t + 1e-6);
+            let (_, v) = tr.sample(t);
+            assert!(((b.roll - a.roll) / 2e-6 - v.roll).abs() < 1e-7);
+            assert!(((b.pitch - a.pitch) / 2e-6 - v.pitch).abs() < 1e-7);
+        }
+        // and the lift-off keeps the flat start at rest
+        let (start, v0) = tr.sample(0.0);
+        assert_eq!(start, s);
+        assert!(v0.angular(&start).norm() < 1e-14);
     }
 
     #[test]

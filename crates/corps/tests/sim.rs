@@ -288,7 +288,8 @@ fn bad_scenarios_fail_with_one_line_naming_the_key() {
             "noise.force.std",
         ),
         (
-            "duration = 0.1\n[terrain]\npreset = \"tilted_platforms\"\n".into(),
+            "duration = 0.1\n[terrain]\npreset = \"tilted_platforms\"\n[initial]\nbase_xy = [0.75, 0.0]\n"
+                .into(),
             "initial: the robot starts",
         ),
         (

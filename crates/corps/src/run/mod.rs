@@ -285,6 +285,7 @@ pub fn run_scenario(
         dt,
         scenario.duration,
         base_dir,
+        sim.terrain(),
     )?;
     let dynamic_filter = match &scenario.motion {
         MotionSection::Walk(w) if w.dynamic_filter => {

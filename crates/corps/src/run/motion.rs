@@ -7,6 +7,7 @@ use anyhow::Context;
 use corps_control::tasks::{Reference, Se3Reference};
 use corps_control::trajectories::{MinJerk, Sampled, Sinusoid};
 use corps_model::spatial::{Motion, Se3};
+use corps_sim::Terrain;
 use nalgebra::{DVector, Vector3};
 use serde::Deserialize;
 
@@ -59,7 +60,8 @@ pub enum MotionSection {
         #[serde(default = "one_second")]
         lift_duration: f64,
     },
-    /// Walk a footstep plan (straight, or stairs with `step_height`) with preview control.
+    /// Walk a footstep plan (straight, stairs with `step_height`, or footholds on the terrain
+    /// with `on_terrain`) with preview control.
     Walk(WalkSection),
     /// Walk by velocity commands through the MPC pattern generator.
     Velocity(VelocitySection),
@@ -199,8 +201,8 @@ pub struct MotionPlan {
 }
 
 impl MotionPlan {
-    /// The motion for a run of `duration` s at control period `dt`; files are read relative
-    /// to `base_dir`.
+    /// The motion for a run of `duration` s at control period `dt` over `terrain`; files are
+    /// read relative to `base_dir`.
     pub fn new(
         section: MotionSection,
         com0: Vector3<f64>,
@@ -208,6 +210,7 @@ impl MotionPlan {
         dt: f64,
         duration: f64,
         base_dir: &std::path::Path,
+        terrain: &Terrain,
     ) -> anyhow::Result<Self> {
         let com_file = match &section {
             MotionSection::ComFile { path } => {
@@ -229,7 +232,14 @@ impl MotionPlan {
         let walk = match &section {
             MotionSection::Walk(w) => {
                 let sole_z = (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
-                Some(WalkMotion::new(w, &feet0, com0.z - sole_z, dt, duration)?)
+                Some(WalkMotion::new(
+                    w,
+                    &feet0,
+                    com0.z - sole_z,
+                    dt,
+                    duration,
+                    terrain,
+                )?)
             }
             MotionSection::Velocity(v) => {
                 let sole_z = (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
@@ -401,6 +411,7 @@ mod tests {
             1e-3,
             10.0,
             std::path::Path::new("."),
+            &Terrain::default(),
         )
         .unwrap()
     }

@@ -2,7 +2,8 @@
 //! soles at the handover (plan x/y origin = the soles' midpoint, plan z = 0 = the soles'
 //! height, feet yaw relative to their starting orientation):
 //! - a footstep plan (corps-walk) turned by Kajita's preview control into CoM, ZMP and feet
-//!   references ([`WalkSection`]);
+//!   references ([`WalkSection`]); with `on_terrain` each footstep takes the height and tilt
+//!   of the scenario's terrain under it (the tilted platforms);
 //! - velocity commands (v_x, v_y, ω) that change at given times, turned into footsteps and CoM
 //!   by the velocity-driven MPC of seed 002 §4.4, re-planned every control period
 //!   ([`VelocitySection`]).
@@ -11,12 +12,15 @@ use super::motion::{positive, FootTarget, Side, Targets};
 use anyhow::{Context, Result};
 use corps_control::trajectories::MinJerk;
 use corps_model::spatial::{Motion, Se3};
+use corps_sim::Terrain;
 use corps_walk::mpc::{MpcParams, VelocityCommand, WalkingMpc};
 use corps_walk::preview_control::PreviewParams;
 use corps_walk::preview_walk::PreviewWalk;
-use corps_walk::{Foot, FootPose, FootVelocity, FootstepPlan, Lipm, StepTiming, WalkingReference};
+use corps_walk::{
+    Foot, FootPose, FootVelocity, FootstepPlan, Ground, Lipm, StepTiming, WalkingReference,
+};
 use nalgebra::DVector;
-use nalgebra::{Rotation3, Vector3};
+use nalgebra::Vector3;
 
 /// `[motion] kind = "walk"`: the parameters of a straight walk or a staircase.
 #[derive(Clone, Debug, PartialEq, serde::Deserialize)]
@@ -29,6 +33,10 @@ pub struct WalkSection {
     /// Step height (m): > 0 climbs stairs.
     #[serde(default)]
     pub step_height: f64,
+    /// Footsteps on the terrain: each takes the height of the scenario's terrain under its
+    /// sole centre and the tilt that lays the sole on it (then `step_height` must be 0).
+    #[serde(default)]
+    pub on_terrain: bool,
     /// Single- and double-support durations (s); default seed 000 §4.2: 0.9 / 0.115.
     #[serde(default = "single_support")]
     pub single_support: f64,
@@ -73,6 +81,12 @@ impl WalkSection {
         positive("double_support", self.double_support)?;
         if !(self.step_length.is_finite() && self.step_height.is_finite()) {
             return Err("motion.step_length and step_height: must be finite".into());
+        }
+        if self.on_terrain && self.step_height != 0.0 {
+            return Err(
+                "motion.step_height: must be 0 with on_terrain (the terrain gives the heights)"
+                    .into(),
+            );
         }
         if !(self.swing_height >= 0.0 && self.swing_height.is_finite()) {
             return Err("motion.swing_height: must be ≥ 0".into());
@@ -145,6 +159,44 @@ impl VelocitySection {
     }
 }
 
+/// The terrain seen from the plan's frame: x, y from the soles' midpoint at the handover,
+/// heights from the ground under the starting soles (plan z = 0 is where the soles rest, a few
+/// millimetres above the surface they stand on: the sole frame rests at that height above any
+/// surface).
+struct PlanGround<'a> {
+    terrain: &'a Terrain,
+    origin: Vector3<f64>,
+    /// Mean height of the terrain under the starting soles.
+    ground0: f64,
+}
+
+impl<'a> PlanGround<'a> {
+    /// The terrain seen from the plan of a walk starting from the soles `feet0`.
+    fn new(terrain: &'a Terrain, feet0: &[Se3; 2]) -> Result<Self> {
+        let under = |p: &Se3| {
+            let (z, _) = terrain
+                .surface_at(p.translation.x, p.translation.y)
+                .context("motion.on_terrain: no terrain under the starting feet")?;
+            Ok::<_, anyhow::Error>(z)
+        };
+        let ground0 = (under(&feet0[0])? + under(&feet0[1])?) / 2.0;
+        let origin = (feet0[0].translation + feet0[1].translation) / 2.0;
+        Ok(Self {
+            terrain,
+            origin,
+            ground0,
+        })
+    }
+}
+
+impl Ground for PlanGround<'_> {
+    fn surface_at(&self, x: f64, y: f64) -> Option<(f64, Vector3<f64>)> {
+        let o = self.origin;
+        let (z, n) = self.terrain.surface_at(x + o.x, y + o.y)?;
+        Some((z - self.ground0, n))
+    }
+}
+
 /// The walk, sampled once per control period for the whole run.
 pub struct WalkMotion {
     samples: Vec<WalkingReference>,
@@ -161,13 +213,14 @@ pub struct WalkMotion {
 
 impl WalkMotion {
     /// Plans the walk from the soles `feet0` with the CoM at height `com_height` above them,
-    /// for `duration` s at period `dt`.
+    /// for `duration` s at period `dt`; with `on_terrain` the footsteps land on `terrain`.
     pub fn new(
         w: &WalkSection,
         feet0: &[Se3; 2],
         com_height: f64,
         dt: f64,
         duration: f64,
+        terrain: &Terrain,
     ) -> Result<Self> {
         let (l, r) = (feet0[0].translation, feet0[1].translation);
         let feet_distance = (l - r).xy().norm();
@@ -186,6 +239,12 @@ impl WalkMotion {
         )
         .context("motion: footstep plan")?
         .with_swing_height(w.swing_height);
+        let plan = if w.on_terrain {
+            plan.on_ground(&PlanGround::new(terrain, feet0)?)
+                .context("motion.on_terrain: footsteps on the terrain")?
+        } else {
+            plan
+        };
         let walking_height = w.com_height.unwrap_or(com_height);
         let mut params = PreviewParams::kajita2003();
         params.period = dt;
@@ -317,17 +376,22 @@ impl WalkMotion {
             out.com.acc[k] = r.com_acc[k];
         }
         let feet = [
-            (&r.left_foot, &r.left_foot_vel, &prev.left_foot_vel),
-            (&r.right_foot, &r.right_foot_vel, &prev.right_foot_vel),
+            (
+                (&r.left_foot, &r.left_foot_vel),
+                (&prev.left_foot, &prev.left_foot_vel),
+            ),
+            (
+                (&r.right_foot, &r.right_foot_vel),
+                (&prev.right_foot, &prev.right_foot_vel),
+            ),
         ];
         out.waist_yaw = r.waist_yaw;
         out.com_correction = self.com_correction.get(i).copied().unwrap_or([[0.0; 2]; 2]);
-        for (k, (pose, vel, prev_vel)) in feet.into_iter().enumerate() {
+        for (k, (now, before)) in feet.into_iter().enumerate() {
             write_foot(
                 &mut out.feet[k],
-                pose,
-                vel,
-                prev_vel,
+                now,
+                before,
                 self.dt,
                 o,
                 &self.feet_rotation0[k],
@@ -338,29 +402,28 @@ impl WalkMotion {
     }
 }
 
-/// A foot target from a plan pose: position + origin, orientation = yaw ∘ starting
-/// orientation; acceleration by a backward difference of the plan velocity.
+/// A foot target from a plan pose and velocity `now` (and those of the previous sample,
+/// `before`): position + origin, orientation `R_z(yaw) R_y(pitch) R_x(roll) R₀` (the plan's
+/// heading and tilt applied to the starting orientation `R₀`), world angular velocity from
+/// the Euler rates ([`FootVelocity::angular`]); accelerations by backward differences.
 fn write_foot(
     out: &mut FootTarget,
-    pose: &FootPose,
-    vel: &FootVelocity,
-    prev: &FootVelocity,
+    now: (&FootPose, &FootVelocity),
+    before: (&FootPose, &FootVelocity),
     dt: f64,
     origin: Vector3<f64>,
     rotation0: &nalgebra::Matrix3<f64>,
 ) {
-    let yaw = Rotation3::from_axis_angle(&Vector3::z_axis(), pose.yaw);
+    let ((pose, vel), (prev_pose, prev_vel)) = (now, before);
     out.reference.placement = Se3::new(
-        yaw.matrix() * rotation0,
-        Vector3::new(pose.x, pose.y, pose.z) + origin,
+        pose.rotation().matrix() * rotation0,
+        pose.position() + origin,
     );
-    out.reference.velocity = Motion::new(
-        Vector3::new(vel.x, vel.y, vel.z),
-        Vector3::new(0.0, 0.0, vel.yaw),
-    );
+    let omega = vel.angular(pose);
+    out.reference.velocity = Motion::new(vel.linear(), omega);
     out.reference.acceleration = Motion::new(
-        Vector3::new(vel.x - prev.x, vel.y - prev.y, vel.z - prev.z) / dt,
-        Vector3::new(0.0, 0.0, (vel.yaw - prev.yaw) / dt),
+        (vel.linear() - prev_vel.linear()) / dt,
+        (omega - prev_vel.angular(prev_pose)) / dt,
     );
 }
 
@@ -401,7 +464,15 @@ mod tests {
             Se3::new(Matrix3::identity(), Vector3::new(0.0, 0.085, 0.0)),
             Se3::new(Matrix3::identity(), Vector3::new(0.0, -0.085, 0.0)),
         ];
-        let w = WalkMotion::new(&section(), &feet0, 0.87, dt, 6.0).unwrap();
+        let w = WalkMotion::new(
+            &section(),
+            &feet0,
+            0.87,
+            dt,
+            6.0,
+            &corps_sim::Terrain::default(),
+        )
+        .unwrap();
         let mut out = targets(&feet0);
         let (mut released_but_supporting, mut single) = (0, 0);
         for k in 0..6000 {
