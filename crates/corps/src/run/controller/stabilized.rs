@@ -10,7 +10,9 @@
 use super::{Measured, WholeBodyController};
 use crate::run::gains::StabilizerGains;
 use crate::run::motion::Targets;
-use corps_control::stabilizer::{ContactPhase, Stabilizer, StabilizerInput, StabilizerSettings};
+use corps_control::stabilizer::{
+    ContactPhase, Stabilizer, StabilizerInput, StabilizerOutput, StabilizerSettings,
+};
 use corps_control::{ControlError, FallbackReason};
 use corps_sim::Command;
 use nalgebra::{Vector2, Vector3};
@@ -19,6 +21,8 @@ pub struct Stabilized<C> {
     inner: C,
     stabilizer: Stabilizer,
     targets: Option<Targets>,
+    /// The stabilizer's output of the last tick (None when it failed).
+    output: Option<StabilizerOutput>,
     ankles: bool,
     gravity: f64,
 }
@@ -76,6 +80,7 @@ impl<C: WholeBodyController + ComTracking> Stabilized<C> {
             gravity: s.gravity,
             stabilizer: Stabilizer::new(s)?,
             targets: None,
+            output: None,
             ankles: g.ankle_gain > 0.0,
         })
     }
@@ -112,8 +117,12 @@ impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C>
             phase,
         };
         let out = match self.stabilizer.tick(&input) {
-            Ok(out) => out,
+            Ok(out) => {
+                self.output = Some(out);
+                out
+            }
             Err(e) => {
+                self.output = None;
                 // Track the unstabilized references this tick and say why.
                 let r = self.inner.tick(t, q, v, targets, measured);
                 return r.or(Some(FallbackReason::Controller(e)));
@@ -150,5 +159,9 @@ impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C>
 
     fn controller_com(&self) -> Vector3<f64> {
         self.inner.controller_com()
+    }
+
+    fn stabilizer_output(&self) -> Option<&StabilizerOutput> {
+        self.output.as_ref()
     }
 }
