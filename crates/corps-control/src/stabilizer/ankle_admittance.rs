@@ -12,19 +12,38 @@
 //! Eq 31 as printed has the opposite one (seed 002 §4.10, §8).
 //!
 //! When the foot is unloaded (`f_z` below `min_normal_force` or not in contact) the command is
-//! zero and `θ` leaks to zero with time constant `leak_time_constant`.
+//! zero and `θ` leaks to zero with time constant `leak_time_constant`; the caller keeps
+//! applying `θ` meanwhile, so the foot reference stays continuous.
+//!
+//! Known limit (measured on the IK stick walk at `A = 0.01`): in single support the stance
+//! CoP is the ZMP, which the CoM admittance also integrates, so `θ` drifts (the rate sits at
+//! its clamp ≈ 8 % of the first 4.5 s, `|θ|` up to 0.05 rad) and the average lateral ZMP error
+//! (12.8 mm) is above the run without the ankle admittance (11.8 mm).
 //!
 //! Why the filter (seed 002 §7 item 12): with a stiff floor and position servo the measured
 //! moment answers the commanded tilt within one tick, `τ ≈ τ₀ − k θ`, so the unfiltered loop is
 //! the discrete integrator `θ⁺ = θ − A k dt θ`, unstable at the Nyquist frequency (period 2 ticks,
 //! the "≥ 1 kHz, instantaneous onset" oscillation) once `A k dt > 2`. The report's threshold
-//! `A ≈ 0.001` then means `k ≈ 2·10⁶ N·m/rad` [derived]. A first-order filter
-//! `v⁺ = v + α(θ̇_raw − v)` makes the characteristic polynomial
-//! `z² − (2 − α(1 + A k dt)) z + (1 − α)`, stable for `A k dt < (4 − 2α)/α` (≈ 64 at 10 Hz and
-//! 1 kHz, i.e. `A` up to ≈ 0.03 at that stiffness), and the clamp bounds what remains.
-//! That bound is for the ankle loop alone: in the coupled closed-loop test
-//! (`tests/stabilizer.rs`, floor 10⁶ N·m/rad) `A = 0.01` still fails to settle whatever the
-//! cutoff, and `A ≤ 0.003` settles; keep `A · k · dt` well below 1.
+//! `A ≈ 0.001` then means `k ≈ 2·10⁶ N·m/rad` [derived].
+//!
+//! Why the lead (our design): a first-order filter at `ω_c` alone turns the loop into
+//! `s² + ω_c s + A k ω_c` (continuous approximation): `ω_n = √(A k ω_c)`,
+//! `ζ = ½ √(ω_c / (A k))`. It is stable far beyond `A k dt = 2`, but lightly damped: at
+//! `A = 0.01`, `k = 10⁶`, 10 Hz, `ζ ≈ 0.04` at ≈ 130 Hz, and a lower cutoff is *less* damped.
+//! Any kick that drives the CoP to a sole edge (where the moment saturates) then sustains a
+//! ≈ 100 Hz limit cycle between the edges (the former `tests/stabilizer.rs` failure at 0.01,
+//! in roll). Letting a fraction `β` of the raw rate bypass the filter,
+//! `θ̇ = β θ̇_raw + (1 − β) LPF(θ̇_raw)`, i.e. the lag-lead `(β s + ω_c)/(s + ω_c)` with its zero
+//! at `ω_c/β`, keeps the integral gain `A` and gives `s² + (ω_c + β A k) s + A k ω_c`:
+//! `ζ = (ω_c + β A k) / (2 √(A k ω_c))`. The bypass is an unfiltered integrator of gain
+//! `β A`, so the Nyquist bound becomes `β A k dt < 2` (exact discrete eigenvalues, 10 Hz, 1 kHz,
+//! `β = 0.05`: `A k dt` = 0.035 / 0.35 / 3.5 / 10 / 20 give `ζ` ≈ 0.69 / 0.27 / 0.25 / 0.39 / 0.44,
+//! unstable at 50). The default `β = 0.05` covers `A = 0.01` up to `k ≈ 2·10⁶ N·m/rad` (the
+//! report's implied floor) and `A = 0.001` up to `2·10⁷`. The corps simulator's floor is far
+//! softer: a 4·10⁷ N/m³ penalty contact on a 0.21 × 0.13 m sole has
+//! `k = 4·10⁷ · b a³/12 ≈ 4·10³ N·m/rad` in pitch (1.5·10³ in roll), 10× that for the stiff
+//! contact some scenarios use, where `A = 0.01` gives `A k dt ≤ 0.04` and the loop is
+//! well damped either way. The clamp bounds what remains.
 
 use super::contact::{Sole, Wrench};
 use nalgebra::{UnitQuaternion, Vector2};
@@ -39,9 +58,11 @@ pub struct AnkleAdmittanceSettings {
     /// Clamp of the angular-velocity command [rad/s]. Default 0.1 (seed 002 §4.10, R L969).
     pub max_velocity: f64,
     /// Cutoff of the first-order low-pass filter on the command [Hz]; `f64::INFINITY`
-    /// disables it. The report gives none (seed 002 §4.10, §11); default 10 Hz, chosen from the
-    /// stability bound in the module docs (A = 0.01 stable up to k ≈ 6·10⁶ N·m/rad at 1 kHz).
+    /// disables it. The report gives none (seed 002 §4.10, §11); default 10 Hz (module docs).
     pub filter_cutoff_hz: f64,
+    /// Fraction `β` ∈ [0, 1] of the raw rate that bypasses the filter (the lead, module docs):
+    /// 0 = filter only, 1 = no filter. Default 0.05 (our design, module docs).
+    pub lead_fraction: f64,
     /// Clamp of each offset angle [rad]. Default 10° (seed 002 R L1023: such stabilizers aim
     /// at slopes up to 10°).
     pub max_offset: f64,
@@ -59,6 +80,7 @@ impl Default for AnkleAdmittanceSettings {
             gain: 0.001,
             max_velocity: 0.1,
             filter_cutoff_hz: 10.0,
+            lead_fraction: 0.05,
             max_offset: 10f64.to_radians(),
             leak_time_constant: 0.1,
             min_normal_force: 15.0,
@@ -140,8 +162,8 @@ impl AnkleAdmittance {
                 1.0
             };
             self.filtered += (raw - self.filtered) * alpha;
-            let v = self
-                .filtered
+            let beta = s.lead_fraction;
+            let v = (raw * beta + self.filtered * (1.0 - beta))
                 .map(|x| x.clamp(-s.max_velocity, s.max_velocity));
             self.command.velocity = v;
             self.command.offset =

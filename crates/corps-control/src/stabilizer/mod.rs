@@ -233,8 +233,9 @@ impl Stabilizer {
                 && nonneg(a.max_velocity)
                 && nonneg(a.max_offset)
                 && pos(a.leak_time_constant)
+                && (0.0..=1.0).contains(&a.lead_fraction)
                 && (pos(a.filter_cutoff_hz) || a.filter_cutoff_hz == f64::INFINITY),
-            "gains ≥ 0, cutoff and leak > 0",
+            "gains ≥ 0, cutoff and leak > 0, lead fraction in [0, 1]",
         )?;
         Ok(Self {
             settings,

@@ -38,7 +38,7 @@ use crate::sim_cmd::setup::{self, Setup};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
 use controller::{IkController, Measured, Stabilized, TsidController, TsidMode};
-use corps_control::stabilizer::Wrench;
+use corps_control::stabilizer::{StabilizerOutput, Wrench};
 use corps_model::spatial::Se3;
 use corps_model::{center_of_mass, frame_placement, Data, Model};
 use corps_sim::Simulator;
@@ -192,6 +192,48 @@ struct Series {
     foot_fz: [Vec<f64>; 2],
     base: [Vec<f64>; 3],
     tick_us: Vec<f64>,
+    /// Stabilizer signals (empty without a stabilizer; NaN on ticks where it failed).
+    stabilizer: StabilizerSeries,
+}
+
+/// Per-tick stabilizer signals: per foot (left, right) and axis, the ankle admittance's
+/// (roll, pitch) offset and rate, the measured and desired CoP in the sole frame (x, y), and
+/// the DCM controller's desired ZMP (world x, y).
+#[derive(Default)]
+struct StabilizerSeries {
+    ankle_offset: [[Vec<f64>; 2]; 2],
+    ankle_rate: [[Vec<f64>; 2]; 2],
+    cop: [[Vec<f64>; 2]; 2],
+    cop_des: [[Vec<f64>; 2]; 2],
+    zmp_des: [Vec<f64>; 2],
+}
+
+impl StabilizerSeries {
+    fn push(&mut self, out: Option<&StabilizerOutput>, contact: &ContactSample) {
+        let nan2 = nalgebra::Vector2::repeat(f64::NAN);
+        for f in 0..2 {
+            let a = out.map(|o| o.ankle[f]);
+            let cop = if contact.foot_fz[f] >= ZMP_MIN_FZ {
+                contact.foot_wrenches[f].cop()
+            } else {
+                nan2
+            };
+            let cop_des = out.map_or(nan2, |o| o.foot_cops[f]);
+            for k in 0..2 {
+                self.ankle_offset[f][k].push(a.map_or(f64::NAN, |a| a.offset[k]));
+                self.ankle_rate[f][k].push(a.map_or(f64::NAN, |a| a.velocity[k]));
+                self.cop[f][k].push(cop[k]);
+                self.cop_des[f][k].push(cop_des[k]);
+            }
+        }
+        for k in 0..2 {
+            self.zmp_des[k].push(out.map_or(f64::NAN, |o| o.zmp_des[k]));
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.zmp_des[0].is_empty()
+    }
 }
 
 /// Runs a parsed scenario; relative paths resolve from `base_dir`; writes into `dir`.
@@ -232,6 +274,8 @@ pub fn run_scenario(
     }
     let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
     let mass = model.total_mass();
+    // Whether a stabilizer runs (its signals go to the log).
+    let mut stabilized = false;
     let mut ctrl: Box<dyn WholeBodyController> = match section.kind {
         ControllerKind::TsidTorque | ControllerKind::TsidPosition => {
             let (mode, default) = if section.kind == ControllerKind::TsidTorque {
@@ -248,9 +292,13 @@ pub fn run_scenario(
                 (TsidMode::Torque, Some(_)) => {
                     bail!("controller.gains: [stabilizer] is for the position-mode controllers")
                 }
-                (TsidMode::Position, Some(s)) => Box::new(
-                    Stabilized::new(inner, &s, mass, dt).context("controller.gains.stabilizer")?,
-                ),
+                (TsidMode::Position, Some(s)) => {
+                    stabilized = true;
+                    Box::new(
+                        Stabilized::new(inner, &s, mass, dt)
+                            .context("controller.gains.stabilizer")?,
+                    )
+                }
                 _ => Box::new(inner),
             }
         }
@@ -261,9 +309,13 @@ pub fn run_scenario(
             let stabilizer = g.stabilizer.clone();
             let inner = IkController::new(model.clone(), g, dt, &q, &q0).context("controller")?;
             match stabilizer {
-                Some(s) => Box::new(
-                    Stabilized::new(inner, &s, mass, dt).context("controller.gains.stabilizer")?,
-                ),
+                Some(s) => {
+                    stabilized = true;
+                    Box::new(
+                        Stabilized::new(inner, &s, mass, dt)
+                            .context("controller.gains.stabilizer")?,
+                    )
+                }
                 None => Box::new(inner),
             }
         }
@@ -353,6 +405,9 @@ pub fn run_scenario(
         let reason = ctrl.tick(t, q, v, &targets, &measured);
         let us = start.elapsed().as_secs_f64() * 1e6;
         tick_us.push(us);
+        if stabilized {
+            series.stabilizer.push(ctrl.stabilizer_output(), &contact);
+        }
         if let Some(r) = reason {
             m.fallbacks += 1;
             m.first_fallback
@@ -622,7 +677,7 @@ fn write_atomic(dir: &Path, name: &str, bytes: &[u8]) -> Result<PathBuf> {
 
 /// `log.csv`: one row every `every` ticks.
 fn write_log(dir: &Path, s: &Series, every: usize) -> Result<PathBuf> {
-    let header: Vec<String> = [
+    let mut header: Vec<String> = [
         "t",
         "com_x",
         "com_y",
@@ -647,6 +702,20 @@ fn write_log(dir: &Path, s: &Series, every: usize) -> Result<PathBuf> {
     ]
     .map(String::from)
     .to_vec();
+    let st = &s.stabilizer;
+    if !st.is_empty() {
+        for foot in ["left", "right"] {
+            for (signal, axes) in [
+                ("ankle", ["roll", "pitch"]),
+                ("ankle_rate", ["roll", "pitch"]),
+                ("cop", ["x", "y"]),
+                ("cop_des", ["x", "y"]),
+            ] {
+                header.extend(axes.map(|a| format!("{foot}_{signal}_{a}")));
+            }
+        }
+        header.extend(["zmp_des_x", "zmp_des_y"].map(String::from));
+    }
     let mut log = crate::sim_cmd::log::CsvLog::create(dir, &header)?;
     let mut row = Vec::with_capacity(header.len());
     for i in (0..s.t.len()).step_by(every.max(1)) {
@@ -663,6 +732,14 @@ fn write_log(dir: &Path, s: &Series, every: usize) -> Result<PathBuf> {
         row.extend((0..2).map(|k| s.foot_fz[k][i]));
         row.extend((0..3).map(|k| s.base[k][i]));
         row.push(s.tick_us[i]);
+        if !st.is_empty() {
+            for f in 0..2 {
+                for signal in [&st.ankle_offset, &st.ankle_rate, &st.cop, &st.cop_des] {
+                    row.extend((0..2).map(|k| signal[f][k][i]));
+                }
+            }
+            row.extend((0..2).map(|k| st.zmp_des[k][i]));
+        }
         log.row(&row)?;
     }
     log.finish()

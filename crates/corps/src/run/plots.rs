@@ -1,5 +1,6 @@
 //! PNG plots of a controller run: CoM against its reference, ZMP against its reference, feet
-//! heights and vertical forces, base position, controller time per tick.
+//! heights and vertical forces, base position, controller time per tick; with a stabilizer,
+//! the ankle admittance's offsets and rates and each foot's CoP against its target.
 
 use super::Series;
 use crate::sim_cmd::plots::{draw_figure, Panel};
@@ -107,5 +108,45 @@ pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
     )];
     draw_figure(&path, &format!("{title}: controller time"), &t, &panels, 1)?;
     files.push(path);
+
+    let st = &s.stabilizer;
+    if !st.is_empty() {
+        let dd = |x: &[Vec<f64>; 2]| x.each_ref().map(d);
+        let offset = st.ankle_offset.each_ref().map(dd);
+        let rate = st.ankle_rate.each_ref().map(dd);
+        let cop = st.cop.each_ref().map(dd);
+        let cop_des = st.cop_des.each_ref().map(dd);
+        let path = dir.join("ankle.png");
+        let mut panels = vec![];
+        for f in 0..2 {
+            panels.push(Panel::new(
+                &format!("{} ankle offset", names[f]),
+                "rad",
+                vec![
+                    ("roll".into(), &offset[f][0]),
+                    ("pitch".into(), &offset[f][1]),
+                ],
+            ));
+            panels.push(Panel::new(
+                &format!("{} ankle rate", names[f]),
+                "rad/s",
+                vec![("roll".into(), &rate[f][0]), ("pitch".into(), &rate[f][1])],
+            ));
+        }
+        for f in 0..2 {
+            for k in 0..2 {
+                panels.push(Panel::new(
+                    &format!("{} CoP {} (sole frame)", names[f], axes[k]),
+                    "m",
+                    vec![
+                        ("measured".into(), &cop[f][k]),
+                        ("desired".into(), &cop_des[f][k]),
+                    ],
+                ));
+            }
+        }
+        draw_figure(&path, &format!("{title}: ankle admittance"), &t, &panels, 2)?;
+        files.push(path);
+    }
     Ok(files)
 }

@@ -12,7 +12,7 @@ pub use stabilized::Stabilized;
 pub use tsid::{TsidController, TsidMode, TALOS_SOLES, TALOS_WAIST};
 
 use super::motion::Targets;
-use corps_control::stabilizer::Wrench;
+use corps_control::stabilizer::{StabilizerOutput, Wrench};
 use corps_control::FallbackReason;
 use corps_sim::Command;
 use nalgebra::{Isometry3, Vector2, Vector3};
@@ -68,4 +68,9 @@ pub trait WholeBodyController {
     /// The CoM of the state the controller works on (measured in torque mode, its own
     /// integrated state in position mode), after the last tick.
     fn controller_com(&self) -> Vector3<f64>;
+    /// The balance stabilizer's output of the last tick, for the log; `None` without one (or
+    /// when its last tick failed).
+    fn stabilizer_output(&self) -> Option<&StabilizerOutput> {
+        None
+    }
 }

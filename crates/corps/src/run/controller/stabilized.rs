@@ -2,7 +2,8 @@
 //! run (Fig 4.2, §3.4): pattern generator → DCM PI → CoM admittance → whole-body controller.
 //! The stabilizer reads the measured CoM, CoM velocity, ZMP and foot wrenches and rewrites the
 //! CoM target; the feet targets get the ankle admittance's roll/pitch offsets when its gain
-//! is not zero. The stabilizer's sway damping keeps its default
+//! is not zero (on every tick, swing included, so that the foot reference stays continuous
+//! while the offset leaks out). The stabilizer's sway damping keeps its default
 //! ([`StabilizerSettings::sway_damping`], 0.1 s): without it the loop excites the servo-held
 //! robot's 1.3 Hz sway (see the `corps_control::stabilizer` module docs). For TSID in position
 //! mode the damping offset comes filtered with its velocity and acceleration ([`ComTracking`]).
@@ -10,7 +11,9 @@
 use super::{Measured, WholeBodyController};
 use crate::run::gains::StabilizerGains;
 use crate::run::motion::Targets;
-use corps_control::stabilizer::{ContactPhase, Stabilizer, StabilizerInput, StabilizerSettings};
+use corps_control::stabilizer::{
+    ContactPhase, Stabilizer, StabilizerInput, StabilizerOutput, StabilizerSettings,
+};
 use corps_control::{ControlError, FallbackReason};
 use corps_sim::Command;
 use nalgebra::{Vector2, Vector3};
@@ -19,6 +22,8 @@ pub struct Stabilized<C> {
     inner: C,
     stabilizer: Stabilizer,
     targets: Option<Targets>,
+    /// The stabilizer's output of the last tick (None when it failed).
+    output: Option<StabilizerOutput>,
     ankles: bool,
     gravity: f64,
 }
@@ -76,6 +81,7 @@ impl<C: WholeBodyController + ComTracking> Stabilized<C> {
             gravity: s.gravity,
             stabilizer: Stabilizer::new(s)?,
             targets: None,
+            output: None,
             ankles: g.ankle_gain > 0.0,
         })
     }
@@ -116,8 +122,12 @@ impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C>
             phase,
         };
         let out = match self.stabilizer.tick(&input) {
-            Ok(out) => out,
+            Ok(out) => {
+                self.output = Some(out);
+                out
+            }
             Err(e) => {
+                self.output = None;
                 // Track the unstabilized references this tick and say why.
                 let r = self.inner.tick(t, q, v, targets, measured);
                 return r.or(Some(FallbackReason::Controller(e)));
@@ -131,12 +141,17 @@ impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C>
             stabilized.com.acc[k] = out.com.acc[k];
         }
         if self.ankles {
+            // Every tick, in contact or not: the admittance leaks a released foot's offset to
+            // zero itself (`AnkleAdmittanceSettings::leak_time_constant`), so the reference
+            // stays continuous. Dropping the offset when the plan releases the foot — a
+            // `release` (the double support) before lift-off, while that foot still carries
+            // most of the weight — stepped the priority-0 foot task by the whole offset in one
+            // tick: at gain 0.01 on the stick walk, (0.043, −0.026) rad at t = 4.530 s, the
+            // tick the hierarchical QP turned infeasible (the robot then fell).
             for (foot, ankle) in stabilized.feet.iter_mut().zip(&out.ankle) {
-                if foot.in_contact {
-                    let r = ankle.rotation().to_rotation_matrix();
-                    let m = &mut foot.reference.placement;
-                    m.rotation *= r.matrix();
-                }
+                let r = ankle.rotation().to_rotation_matrix();
+                let m = &mut foot.reference.placement;
+                m.rotation *= r.matrix();
             }
         }
         let r = self.inner.tick(t, q, v, stabilized, measured);
@@ -154,5 +169,9 @@ impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C>
 
     fn controller_com(&self) -> Vector3<f64> {
         self.inner.controller_com()
+    }
+
+    fn stabilizer_output(&self) -> Option<&StabilizerOutput> {
+        self.output.as_ref()
     }
 }
