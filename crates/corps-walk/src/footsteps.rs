@@ -124,6 +124,21 @@ pub struct FootstepPlan {
     swing_height: f64,
 }
 
+/// `a → b` by the min-jerk polynomial `s(λ) = 10λ³ − 15λ⁴ + 6λ⁵` at `λ ∈ [0, 1]` of a
+/// transition of `duration` s: value, rate, acceleration.
+fn min_jerk(a: f64, b: f64, lam: f64, duration: f64) -> [f64; 3] {
+    let l = lam.clamp(0.0, 1.0);
+    let d = b - a;
+    let s = l * l * l * (10.0 - 15.0 * l + 6.0 * l * l);
+    let ds = 30.0 * l * l * (1.0 - l) * (1.0 - l);
+    let dds = 60.0 * l * (1.0 - l) * (1.0 - 2.0 * l);
+    [
+        a + d * s,
+        d * ds / duration,
+        d * dds / (duration * duration),
+    ]
+}
+
 fn mid(a: &FootPose, b: &FootPose) -> Vector3<f64> {
     Vector3::new(0.5 * (a.x + b.x), 0.5 * (a.y + b.y), 0.5 * (a.z + b.z))
 }
@@ -450,6 +465,56 @@ impl FootstepPlan {
         out
     }
 
+    /// The ground height the CoM rides above at `t`, with its first two derivatives: the
+    /// support height, changed by a min-jerk transition over a whole step period from each
+    /// touch-down (the double support and the next single support; the final double support
+    /// for the closing step). The ZMP reference's height changes within the double support
+    /// alone, a 10 cm stair in 0.115 s (seed 000 §4.2), which as a CoM height is a 0.87 m/s
+    /// velocity step; spread over the period the peak rate is 1.875 Δz / T and the peak
+    /// acceleration 5.77 Δz / T² (0.18 m/s and 0.56 m/s² for that stair at T = 1.015 s).
+    pub fn com_ground(&self, t: f64) -> [f64; 3] {
+        let n = self.steps.len();
+        let start = mid(&self.initial_left, &self.initial_right).z;
+        if n == 0 {
+            return [start, 0.0, 0.0];
+        }
+        // The support height before step 0's touch-down: the first support foot's (the
+        // initial double support moves the ZMP onto it).
+        let mut z = {
+            let (l, r) = self.feet_before(0);
+            if self.steps[0].foot == Foot::Left {
+                r.z
+            } else {
+                l.z
+            }
+        };
+        if t < self.timing.initial_double_support {
+            // Flat start in every plan corps builds; blend anyway if the feet differ.
+            let lam = (t / self.timing.initial_double_support).clamp(0.0, 1.0);
+            return min_jerk(start, z, lam, self.timing.initial_double_support);
+        }
+        for i in 0..n {
+            let t0 = self.touchdown_time(i);
+            if t < t0 {
+                return [z, 0.0, 0.0];
+            }
+            let (to, dur) = if i + 1 < n {
+                (
+                    self.steps[i].pose.z,
+                    self.timing.single_support + self.timing.double_support,
+                )
+            } else {
+                let (l, r) = self.final_feet();
+                (0.5 * (l.z + r.z), self.timing.final_double_support)
+            };
+            if t < t0 + dur {
+                return min_jerk(z, to, (t - t0) / dur, dur);
+            }
+            z = to;
+        }
+        [z, 0.0, 0.0]
+    }
+
     /// Contact phase at time `t`.
     pub fn phase_at(&self, t: f64) -> ContactPhase {
         self.sample(t).phase
@@ -460,6 +525,38 @@ impl FootstepPlan {
 mod tests {
     use super::*;
     use crate::support_polygon::{ConvexPolygon, FootGeometry};
+
+    #[test]
+    fn com_ground_climbs_each_stair_smoothly_over_a_step_period() {
+        let timing = StepTiming::seed000_nominal();
+        let plan = FootstepPlan::stairs(4, 0.1, 0.3, 0.17, Foot::Right, timing).unwrap();
+        let period = timing.single_support + timing.double_support;
+        let dt = 1e-4;
+        let (mut prev, mut max_rate) = (plan.com_ground(0.0), 0.0f64);
+        let mut t = dt;
+        while t < plan.duration() + 0.5 {
+            let g = plan.com_ground(t);
+            // Continuous, and the rates are the derivatives (central differences).
+            assert!((g[0] - prev[0]).abs() < 0.2 * dt + 1e-12, "jump at {t}");
+            let (a, b) = (plan.com_ground(t - dt), plan.com_ground(t + dt));
+            assert!((b[0] - a[0]) / (2.0 * dt) - g[1] < 1e-5, "rate at {t}");
+            assert!(
+                ((b[1] - a[1]) / (2.0 * dt) - g[2]).abs() < 1e-3,
+                "acc at {t}"
+            );
+            max_rate = max_rate.max(g[1].abs());
+            prev = g;
+            t += dt;
+        }
+        // One stair per step period: the min-jerk peak rate 1.875 Δz / T.
+        assert!((max_rate - 1.875 * 0.1 / period).abs() < 1e-3, "{max_rate}");
+        // On each tread by the next touch-down, and at the top at the end.
+        for i in 0..3 {
+            let g = plan.com_ground(plan.touchdown_time(i) + period);
+            assert!((g[0] - plan.steps()[i].pose.z).abs() < 1e-12);
+        }
+        assert!((plan.com_ground(plan.duration() + 1.0)[0] - 0.4).abs() < 1e-12);
+    }
 
     #[test]
     fn seed000_straight_walk() {

@@ -8,9 +8,9 @@
 //! 0.84 m at the first tick when the plan starts at t = 0). Plan time is generator time minus
 //! [`PreviewWalk::lead_time`].
 //!
-//! The CoM height is `z_c` above the ground height under the ZMP reference (so that on stairs
-//! the CoM climbs with the support foot); its vertical velocity is the rate of that ground
-//! height, and its vertical acceleration is taken as zero (the LIPM assumption).
+//! The CoM height is `z_c` above the support height, which changes smoothly over the step
+//! period after each touch-down ([`FootstepPlan::com_ground`]), so that on stairs the CoM
+//! climbs with the support foot; the preview control itself keeps the LIPM's constant height.
 
 use crate::footsteps::FootstepPlan;
 use crate::preview_control::{PreviewAxis, PreviewController, PreviewParams};
@@ -92,13 +92,14 @@ impl PreviewWalk {
             self.buf_y[j] = z.y;
         }
         let s = self.plan.sample(tp);
+        let [gz, gz_rate, gz_acc] = self.plan.com_ground(tp);
         let m = &self.controller.model;
         let zc = self.params.lipm.com_height;
         let mut r = WalkingReference {
             time: t,
-            com: Vector3::new(self.x.x[0], self.y.x[0], s.zmp.z + zc),
-            com_vel: Vector3::new(self.x.x[1], self.y.x[1], s.zmp_vel.z),
-            com_acc: Vector3::new(self.x.x[2], self.y.x[2], 0.0),
+            com: Vector3::new(self.x.x[0], self.y.x[0], gz + zc),
+            com_vel: Vector3::new(self.x.x[1], self.y.x[1], gz_rate),
+            com_acc: Vector3::new(self.x.x[2], self.y.x[2], gz_acc),
             zmp: Vector3::new(m.zmp(&self.x.x), m.zmp(&self.y.x), s.zmp.z),
             left_foot: s.left,
             right_foot: s.right,
