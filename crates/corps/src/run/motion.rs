@@ -166,6 +166,25 @@ pub struct Targets {
 }
 
 impl Targets {
+    /// Standing still: the CoM at `com`, both feet held in contact at `feet` (left, right).
+    pub fn at_rest(com: &Vector3<f64>, feet: &[Se3; 2]) -> Targets {
+        let foot = |m: Se3| FootTarget {
+            reference: Se3Reference {
+                placement: m,
+                velocity: Motion::zero(),
+                acceleration: Motion::zero(),
+            },
+            in_contact: true,
+            supporting: true,
+        };
+        Targets {
+            com: Reference::constant(DVector::from_column_slice(com.as_slice())),
+            feet: [foot(feet[0]), foot(feet[1])],
+            waist_yaw: 0.0,
+            com_correction: [[0.0; 2]; 2],
+        }
+    }
+
     /// The ZMP of the planned CoM on the ground at height `ground` (LIPM, seed 000 Eq 2.22):
     /// `p = c − (c_z − z_ground)/g · c̈`, world x and y, with `c` the CoM reference before
     /// the dynamic filter's correction: the filter moves the CoM so that the whole body's ZMP
@@ -274,21 +293,7 @@ impl MotionPlan {
 
     /// The targets at rest at the starting pose.
     pub fn initial_targets(&self) -> Targets {
-        let foot = |m: Se3| FootTarget {
-            reference: Se3Reference {
-                placement: m,
-                velocity: Motion::zero(),
-                acceleration: Motion::zero(),
-            },
-            in_contact: true,
-            supporting: true,
-        };
-        Targets {
-            com: Reference::constant(DVector::from_column_slice(self.com0.as_slice())),
-            feet: [foot(self.feet0[0]), foot(self.feet0[1])],
-            waist_yaw: 0.0,
-            com_correction: [[0.0; 2]; 2],
-        }
+        Targets::at_rest(&self.com0, &self.feet0)
     }
 
     /// Writes the targets at time `t` (s since the handover) into `out`.

@@ -430,29 +430,10 @@ fn write_foot(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use corps_control::tasks::{Reference, Se3Reference};
     use nalgebra::Matrix3;
 
     fn section() -> WalkSection {
         toml::from_str("steps = 2\nstep_length = 0.2").unwrap()
-    }
-
-    fn targets(feet0: &[Se3; 2]) -> Targets {
-        let foot = |m: Se3| FootTarget {
-            reference: Se3Reference {
-                placement: m,
-                velocity: Motion::zero(),
-                acceleration: Motion::zero(),
-            },
-            in_contact: true,
-            supporting: true,
-        };
-        Targets {
-            com: Reference::constant(DVector::zeros(3)),
-            feet: [foot(feet0[0]), foot(feet0[1])],
-            waist_yaw: 0.0,
-            com_correction: [[0.0; 2]; 2],
-        }
     }
 
     /// The controller's contact of the leaving foot is released over the double support, the
@@ -473,7 +454,7 @@ mod tests {
             &corps_sim::Terrain::default(),
         )
         .unwrap();
-        let mut out = targets(&feet0);
+        let mut out = Targets::at_rest(&Vector3::zeros(), &feet0);
         let (mut released_but_supporting, mut single) = (0, 0);
         for k in 0..6000 {
             w.sample(k as f64 * dt, &mut out);
