@@ -73,6 +73,7 @@ fn tsid_torque_climbs_six_stairs() {
     let m = walk("tsid_torque_stairs");
     let w = m.walk.as_ref().unwrap();
     assert!(w.distance > 1.7, "travelled {:.3} m of 1.8", w.distance);
+    assert_zmp_at_most_thesis(&m);
 }
 
 #[test]
