@@ -21,9 +21,10 @@
 //! difference with centroidal angular momentum: the model rolled its pelvis by 0.018 rad in
 //! single support and 0.157 rad 0.1 s after the touch-down (IK, controller A, holds it within
 //! 0.0001 rad); the servos copied it (real pelvis roll 0.046 and 0.169 rad), the real swing
-//! foot landed 4.7 mm high on its edge and the walk fell (simulation diverged at 6.1 s; 7.6 s
-//! with the dynamic filter). Widening the model's soles ×3 and ×10 pushed the fall to 7.7 and
-//! 10.6 s, so the bound, not the servo loop, set it off.
+//! foot landed on its edge, 1.6 mm high (4.7 mm without the dynamic filter), and the walk fell (the pelvis below 0.9 m 5.06 s after
+//! the handover; simulation diverged at 7.6 s, 6.1 s without the dynamic filter). Widening the
+//! model's soles ×3 and ×10 delayed the pelvis drop to 7.65 and 10.56 s: the model's sole
+//! bound, not the servo loop alone, set it off.
 //!
 //! Hence `contacts.bilateral` (on in `config/talos/tsid_position.toml`): the model's contacts
 //! keep their acceleration equalities and the bounds on the total normal force (the add/remove
