@@ -107,7 +107,8 @@ fn ik_position_walks_over_the_tilted_platforms() {
 }
 
 #[test]
-#[ignore = "falls: TSID position diverges on the platforms walk (simulation at t = 5.90 s, 5.40 s after the handover, late in the right foot's swing onto its platform with the left foot on the other), as the flat 20 cm walk does (simulation at t = 6.1 s)"]
+// Walks since the integrated model's contacts dropped their friction pyramids
+// (`contacts.bilateral`, crates/corps/src/run/controller/tsid.rs "Position mode's contacts").
 fn tsid_position_walks_over_the_tilted_platforms() {
     walk("tsid_position_platforms");
 }
@@ -173,7 +174,10 @@ fn ik_position_walks_with_the_fast_timing() {
 }
 
 #[test]
-#[ignore = "falls: with the stabilizer (K_adm 12, filtered sway damping) TSID-position stands and tracks the CoM sinusoid, but the 20 cm walk still diverges (simulation at t = 6.1 s; 7.6 s with the dynamic filter): a lateral sway in single support (ZMP error ±30–40 mm at ≈1.5 Hz) grows each step"]
+// Walks since the integrated model's contacts dropped their friction pyramids
+// (`contacts.bilateral`, crates/corps/src/run/controller/tsid.rs "Position mode's contacts"):
+// before, the stabilizer's CoM acceleration pushed the model's ZMP off its sole and the QP
+// rolled the pelvis instead (simulation diverged at 6.1 s; 7.6 s with the dynamic filter).
 fn tsid_position_walks_six_20_cm_steps() {
     walk("tsid_position_20cm");
 }

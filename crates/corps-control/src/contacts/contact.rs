@@ -32,6 +32,12 @@ pub struct Contact {
     pub force_reg_components: Vector6<f64>,
     /// Reference contact wrench [force; torque] about the frame origin, contact frame.
     pub force_reference: Vector6<f64>,
+    /// Drops the friction pyramids (the per-point rows of [`Contact::force_constraints`]), so
+    /// the contact wrench has no friction or centre-of-pressure bound; the bounds on the total
+    /// normal force stay. For a model whose contact forces are never applied, such as TSID in
+    /// position mode, where they would otherwise bend its motion (see `corps`'s TSID
+    /// controller). Default false.
+    pub bilateral: bool,
     /// `Jc = Tᵀ J` (3 per point × nv): point Jacobians, LOCAL.
     pub jc: DMatrix<f64>,
     /// `T` (6 × 3 per point), refreshed by `compute`.
@@ -124,6 +130,7 @@ impl Contact {
             force_reg_weight: 1e-5,
             force_reg_components: Vector6::new(1.0, 1.0, 1e-3, 2.0, 2.0, 2.0),
             force_reference: Vector6::zeros(),
+            bilateral: false,
             jc: DMatrix::zeros(nf, model.nv),
             t: DMatrix::zeros(6, nf),
         }
@@ -254,7 +261,7 @@ impl Contact {
                     c[(r, col + 3 * i + j)] = d[j];
                 }
                 l[r] = -1e10;
-                u[r] = 0.0;
+                u[r] = if self.bilateral { 1e10 } else { 0.0 };
             }
             for j in 0..3 {
                 c[(total, col + 3 * i + j)] = n[j];

@@ -97,6 +97,11 @@ pub struct ContactGains {
     pub fmax: f64,
     pub force_regularization: f64,
     pub transition: f64,
+    /// Contacts without friction pyramids: only the total normal force stays bounded
+    /// ([`corps_control::contacts::Contact::bilateral`]). Position mode only (its contact
+    /// forces are never applied); a torque-mode controller refuses it. Default false.
+    #[serde(default)]
+    pub bilateral: bool,
 }
 
 /// The balance stabilizer of the position-mode controllers (seed 000 Eq 2.30–2.31, gains of

@@ -2,6 +2,42 @@
 //! state, its torques go to the joints) or position mode (controller B: the QP reads its own
 //! integrated state, `v += q̈ dt`, `q = q ⊕ v dt`, and (q, v) go to the joint servos; seed 000
 //! §3.8, L4538–L4550).
+//!
+//! # Position mode's contacts
+//!
+//! In position mode the QP's contact forces are never applied: the servos make the real ground
+//! reaction, and the stabilizer keeps the real ZMP in the real support (its DCM controller
+//! clamps `p*` into it). The integrated model still obeys its own centroidal dynamics, though:
+//! with the friction pyramids at the sole corners (Eq 4.14's force bounds) its ZMP must stay in
+//! its support polygon, so it can only follow a CoM acceleration with
+//! `c̈_xy = ω² (c − p_int) − (k̇ term)`, `p_int` in the sole. The stabilizer's `c̈*` (Eq 2.31,
+//! `c̈_ref + K_adm (p − p*)` from the *measured* ZMP, plus the sway damping) does not respect
+//! that. Measured on the 20 cm walk (dynamic filter, Table 4.3 gains): in the first single
+//! support the LIPM ZMP `c − c̈*/ω²` of the model reached 0.148 m against the stance sole's
+//! outer edge at 0.150 m; at the right foot's touch-down (3.55–3.60 s after the handover, the
+//! measured ZMP still on the left foot) `c̈*` was (−1.3, +2.3) m/s², i.e. `p_int` at
+//! (0.31, −0.21) m, outside the right sole (x 0.09…0.29, y −0.15…−0.02). The QP, where the
+//! CoM weighs 1000 against the waist's 1 and the angular momentum's 0.02, made up the
+//! difference with centroidal angular momentum: the model rolled its pelvis by 0.018 rad in
+//! single support and 0.157 rad 0.1 s after the touch-down (IK, controller A, holds it within
+//! 0.0001 rad); the servos copied it (real pelvis roll 0.046 and 0.169 rad), the real swing
+//! foot landed on its edge, 1.6 mm high (4.7 mm without the dynamic filter), and the walk fell (the pelvis below 0.9 m 5.06 s after
+//! the handover; simulation diverged at 7.6 s, 6.1 s without the dynamic filter). Widening the
+//! model's soles ×3 and ×10 delayed the pelvis drop to 7.65 and 10.56 s: the model's sole
+//! bound, not the servo loop alone, set it off.
+//!
+//! Hence `contacts.bilateral` (on in `config/talos/tsid_position.toml`): the model's contacts
+//! keep their acceleration equalities and the bounds on the total normal force (the add/remove
+//! ramps), but not the per-corner pyramids, so the model follows `c̈*` with its contact wrench
+//! and its legs, as the IK does, instead of with its trunk. Torque mode applies the forces and
+//! refuses the option.
+//!
+//! What remains (20 cm walk, bilateral): it walks (final base 20.5 mm from the plan; 15.5 mm
+//! with the dynamic filter) but loosely: ZMP error avg/peak x 39.0/250.7, y 35.0/236.6 mm
+//! (dynamic filter: 29.3/153.7, 28.9/216.2; IK 5.1/62.6, 8.9/31.2; thesis 28/142, 25/138);
+//! the real pelvis rolls and pitches up to 0.16 and 0.14 rad in the last steps (IK 0.027 and
+//! 0.018) while the model's stays within 0.032 and 0.019 rad. The waist weight is not it
+//! (1000 instead of 1: ZMP x 43.6/309.3, y 33.4/236.0 mm).
 
 use super::WholeBodyController;
 use crate::run::gains::TsidGains;
@@ -73,6 +109,12 @@ impl TsidController {
         q_posture: &DVector<f64>,
     ) -> Result<Self> {
         gains.check()?;
+        if gains.contacts.bilateral && mode == TsidMode::Torque {
+            anyhow::bail!(
+                "contacts.bilateral: torque mode applies the QP's contact forces, which must \
+                 stay in the friction pyramids"
+            );
+        }
         let nv = model.nv;
         let na = nv - 6;
         let mut state = RobotState::new(&model);
@@ -124,6 +166,7 @@ impl TsidController {
                 at_rest(state.frame_placement(&model, frame)?),
             );
             contact.force_reg_weight = c.force_regularization;
+            contact.bilateral = c.bilateral;
             id.contacts.push(contact.clone());
             feet.push(Foot {
                 frame,
