@@ -110,7 +110,7 @@ fn ik_position_walks_over_the_tilted_platforms() {
 // Walks since the integrated model's contacts dropped their friction pyramids
 // (`contacts.bilateral`, crates/corps/src/run/controller/tsid.rs "Position mode's contacts").
 fn tsid_position_walks_over_the_tilted_platforms() {
-    walk("tsid_position_platforms");
+    assert_dynamic_filter_helped(&walk("tsid_position_platforms"));
 }
 
 #[test]
@@ -179,7 +179,13 @@ fn ik_position_walks_with_the_fast_timing() {
 // before, the stabilizer's CoM acceleration pushed the model's ZMP off its sole and the QP
 // rolled the pelvis instead (simulation diverged at 6.1 s; 7.6 s with the dynamic filter).
 fn tsid_position_walks_six_20_cm_steps() {
-    walk("tsid_position_20cm");
+    assert_dynamic_filter_helped(&walk("tsid_position_20cm"));
+}
+
+#[test]
+#[ignore = "falls: TSID position with the fast timing (0.711 / 0.089 s) loses balance, base below 0.9 m at t = 7.79 s after the handover (the pelvis roll and pitch of the real robot grow over the steps, see tsid_position_walks_six_20_cm_steps)"]
+fn tsid_position_walks_with_the_fast_timing() {
+    walk("tsid_position_20cm_fast");
 }
 
 #[test]
