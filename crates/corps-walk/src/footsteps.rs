@@ -354,6 +354,16 @@ impl FootstepPlan {
         self.touchdown_time(self.steps.len() - 1) + self.timing.final_double_support
     }
 
+    /// The foot that carries the robot while step `i` swings.
+    fn support_before(&self, i: usize) -> FootPose {
+        let (l, r) = self.feet_before(i);
+        if self.steps[i].foot == Foot::Left {
+            r
+        } else {
+            l
+        }
+    }
+
     /// The feet before step `i` lifts off (after steps `0..i`).
     fn feet_before(&self, i: usize) -> (FootPose, FootPose) {
         // the foot that swings in step i is at liftoff[i]; the other one is where the last
@@ -399,17 +409,9 @@ impl FootstepPlan {
         if n == 0 || t <= 0.0 {
             return out;
         }
-        let support_of = |i: usize| -> FootPose {
-            let (l, r) = self.feet_before(i);
-            if self.steps[i].foot == Foot::Left {
-                r
-            } else {
-                l
-            }
-        };
         if t < tm.initial_double_support {
             let a = mid(&self.initial_left, &self.initial_right);
-            let b = pos(&support_of(0));
+            let b = pos(&self.support_before(0));
             let lam = t / tm.initial_double_support;
             out.zmp = a + (b - a) * lam;
             out.zmp_vel = (b - a) / tm.initial_double_support;
@@ -421,7 +423,7 @@ impl FootstepPlan {
         let local = tau - i as f64 * period;
         let step = self.steps[i];
         let (l, r) = self.feet_before(i);
-        let support = support_of(i);
+        let support = self.support_before(i);
         if local < tm.single_support {
             let swing = SwingTrajectory::new(
                 &self.liftoff[i],
@@ -480,14 +482,7 @@ impl FootstepPlan {
         }
         // The support height before step 0's touch-down: the first support foot's (the
         // initial double support moves the ZMP onto it).
-        let mut z = {
-            let (l, r) = self.feet_before(0);
-            if self.steps[0].foot == Foot::Left {
-                r.z
-            } else {
-                l.z
-            }
-        };
+        let mut z = self.support_before(0).z;
         if t < self.timing.initial_double_support {
             // Flat start in every plan corps builds; blend anyway if the feet differ.
             let lam = (t / self.timing.initial_double_support).clamp(0.0, 1.0);

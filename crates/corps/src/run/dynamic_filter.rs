@@ -13,14 +13,13 @@
 
 use super::controller::{IkController, Measured, WholeBodyController};
 use super::gains;
+use super::metrics::DynamicFilterMetrics;
 use super::motion::{MotionPlan, Targets};
 use anyhow::{bail, Context, Result};
 use corps_control::stabilizer::Wrench;
 use corps_model::{compute_centroidal_momentum, difference_to, Data, Model};
 use corps_sim::Command;
 use corps_walk::dynamic_filter::DynamicFilter;
-use corps_walk::preview_control::PreviewParams;
-use corps_walk::Lipm;
 use nalgebra::{DVector, Isometry3, Vector2, Vector3};
 use std::sync::Arc;
 
@@ -44,17 +43,6 @@ impl ZmpError {
             (rms, peak)
         })
     }
-}
-
-/// What one filter pass did.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FilterReport {
-    /// RMS and peak of the multibody ZMP error of the plan as planned, x and y [m].
-    pub before: [(f64, f64); 2],
-    /// The same after the correction.
-    pub after: [(f64, f64); 2],
-    /// Largest CoM correction |Δc| per axis [m].
-    pub max_correction: [f64; 2],
 }
 
 /// Replays `ticks` ticks of `plan` (period `dt`) through the kinematic IK from the
@@ -144,24 +132,21 @@ pub fn multibody_zmp_error(
     Ok(err)
 }
 
-/// One pass of the dynamic filter on the walk of `plan`: replays it, corrects its CoM, replays
-/// the corrected plan and reports both errors. `com_height` is the LIPM height of the walk.
-#[allow(clippy::too_many_arguments)]
+/// One pass of the dynamic filter on the footstep-list walk of `plan` (`ticks` periods):
+/// replays it, corrects its CoM with the preview control that planned it (same period, LIPM
+/// and horizon), replays the corrected plan and reports both errors.
 pub fn filter_walk(
     model: &Arc<Model>,
     q0: &DVector<f64>,
     posture: &DVector<f64>,
     plan: &mut MotionPlan,
     ticks: usize,
-    dt: f64,
-    gravity: f64,
-    com_height: f64,
-) -> Result<FilterReport> {
+) -> Result<DynamicFilterMetrics> {
+    let Some(params) = plan.walk().and_then(|w| w.preview_params()).copied() else {
+        bail!("the dynamic filter needs a walk planned by preview control (kind = \"walk\")");
+    };
+    let (dt, gravity) = (params.period, params.lipm.gravity);
     let before = multibody_zmp_error(model, q0, posture, plan, ticks, dt, gravity)?;
-    let mut params = PreviewParams::kajita2003();
-    params.period = dt;
-    params.lipm = Lipm::new(com_height, gravity).context("dynamic filter: LIPM")?;
-    params.horizon = (1.6 / dt).round() as usize;
     let mut filter = DynamicFilter::new(&params).context("dynamic filter")?;
     let n = filter.horizon();
     let window = |e: &[f64], k: usize, out: &mut Vec<f64>| {
@@ -182,12 +167,11 @@ pub fn filter_walk(
         filter.step(&wx, &wy).context("dynamic filter")?;
     }
     let max_correction = [&dx, &dy].map(|d| d.iter().fold(0.0f64, |m, c| m.max(c[0].abs())));
-    let Some(walk) = plan.walk_mut() else {
-        bail!("the dynamic filter needs a walk");
-    };
-    walk.correct_com(&dx, &dy);
+    if let Some(walk) = plan.walk_mut() {
+        walk.correct_com(&dx, &dy);
+    }
     let after = multibody_zmp_error(model, q0, posture, plan, ticks, dt, gravity)?;
-    Ok(FilterReport {
+    Ok(DynamicFilterMetrics {
         before: before.rms_and_peak(),
         after: after.rms_and_peak(),
         max_correction,

@@ -128,13 +128,14 @@ pub struct WalkMetrics {
     pub dynamic_filter: Option<DynamicFilterMetrics>,
 }
 
-/// The plan's multibody ZMP error before and after the dynamic filter (kinematic replay).
-#[derive(Clone, Debug, Default, Serialize)]
+/// What one dynamic filter pass did to the plan (`crate::run::dynamic_filter`): its multibody
+/// ZMP error (kinematic replay) before and after, and the correction.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct DynamicFilterMetrics {
-    /// RMS and peak per axis (m), x then y.
+    /// RMS and peak of |p_ref − p_MB| per axis (m), x then y.
     pub before: [(f64, f64); 2],
     pub after: [(f64, f64); 2],
-    /// Largest CoM correction per axis (m).
+    /// Largest CoM correction |Δc| per axis (m).
     pub max_correction: [f64; 2],
 }
 

@@ -37,7 +37,7 @@ use crate::sim_cmd::scenario::Scenario;
 use crate::sim_cmd::setup::{self, Setup};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
-use controller::{IkController, Measured, Stabilized, TsidController, TsidMode};
+use controller::{behind_stabilizer, IkController, Measured, TsidController, TsidMode};
 use corps_control::stabilizer::{StabilizerOutput, Wrench};
 use corps_model::spatial::Se3;
 use corps_model::{center_of_mass, frame_placement, Data, Model};
@@ -274,9 +274,8 @@ pub fn run_scenario(
     }
     let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
     let mass = model.total_mass();
-    // Whether a stabilizer runs (its signals go to the log).
-    let mut stabilized = false;
-    let mut ctrl: Box<dyn WholeBodyController> = match section.kind {
+    // The controller, and whether a stabilizer runs (its signals go to the log).
+    let (mut ctrl, stabilized) = match section.kind {
         ControllerKind::TsidTorque | ControllerKind::TsidPosition => {
             let (mode, default) = if section.kind == ControllerKind::TsidTorque {
                 (TsidMode::Torque, gains::TSID_TORQUE)
@@ -288,19 +287,12 @@ pub fn run_scenario(
             let stabilizer = g.stabilizer.clone();
             let inner = TsidController::new(model.clone(), mode, g, dt, &q, &v, &q0)
                 .context("controller")?;
-            match (mode, stabilizer) {
-                (TsidMode::Torque, Some(_)) => {
-                    bail!("controller.gains: [stabilizer] is for the position-mode controllers")
-                }
-                (TsidMode::Position, Some(s)) => {
-                    stabilized = true;
-                    Box::new(
-                        Stabilized::new(inner, &s, mass, dt)
-                            .context("controller.gains.stabilizer")?,
-                    )
-                }
-                _ => Box::new(inner),
+            if mode == TsidMode::Torque && stabilizer.is_some() {
+                bail!("controller.gains: [stabilizer] is for the position-mode controllers")
             }
+            let ctrl = behind_stabilizer(inner, stabilizer.as_ref(), mass, dt)
+                .context("controller.gains.stabilizer")?;
+            (ctrl, stabilizer.is_some())
         }
         ControllerKind::IkPosition => {
             let g: gains::IkGainsFile =
@@ -308,16 +300,9 @@ pub fn run_scenario(
                     .context("controller.gains")?;
             let stabilizer = g.stabilizer.clone();
             let inner = IkController::new(model.clone(), g, dt, &q, &q0).context("controller")?;
-            match stabilizer {
-                Some(s) => {
-                    stabilized = true;
-                    Box::new(
-                        Stabilized::new(inner, &s, mass, dt)
-                            .context("controller.gains.stabilizer")?,
-                    )
-                }
-                None => Box::new(inner),
-            }
+            let ctrl = behind_stabilizer(inner, stabilizer.as_ref(), mass, dt)
+                .context("controller.gains.stabilizer")?;
+            (ctrl, stabilizer.is_some())
         }
     };
 
@@ -340,18 +325,10 @@ pub fn run_scenario(
         sim.terrain(),
     )?;
     let dynamic_filter = match &scenario.motion {
-        MotionSection::Walk(w) if w.dynamic_filter => {
-            let sole_z = (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
-            let height = w.com_height.unwrap_or(com0.z - sole_z);
-            let r =
-                dynamic_filter::filter_walk(&model, &q, &q0, &mut plan, ticks, dt, GRAVITY, height)
-                    .context("motion.dynamic_filter")?;
-            Some(DynamicFilterMetrics {
-                before: r.before,
-                after: r.after,
-                max_correction: r.max_correction,
-            })
-        }
+        MotionSection::Walk(w) if w.dynamic_filter => Some(
+            dynamic_filter::filter_walk(&model, &q, &q0, &mut plan, ticks)
+                .context("motion.dynamic_filter")?,
+        ),
         _ => None,
     };
     let mut targets = plan.initial_targets();

@@ -248,27 +248,14 @@ impl MotionPlan {
             }
             _ => None,
         };
+        // CoM height above the soles at the handover.
+        let com_height = com0.z - (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
         let walk = match &section {
-            MotionSection::Walk(w) => {
-                let sole_z = (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
-                Some(WalkMotion::new(
-                    w,
-                    &feet0,
-                    com0.z - sole_z,
-                    dt,
-                    duration,
-                    terrain,
-                )?)
-            }
+            MotionSection::Walk(w) => Some(WalkMotion::new(
+                w, &feet0, com_height, dt, duration, terrain,
+            )?),
             MotionSection::Velocity(v) => {
-                let sole_z = (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
-                Some(WalkMotion::velocity(
-                    v,
-                    &feet0,
-                    com0.z - sole_z,
-                    dt,
-                    duration,
-                )?)
+                Some(WalkMotion::velocity(v, &feet0, com_height, dt, duration)?)
             }
             _ => None,
         };

@@ -209,6 +209,8 @@ pub struct WalkMotion {
     feet_rotation0: [nalgebra::Matrix3<f64>; 2],
     /// When the plan starts (s after the handover): the preview window.
     pub lead_time: f64,
+    /// The preview control that planned a footstep-list walk (None for the MPC's).
+    preview: Option<PreviewParams>,
 }
 
 impl WalkMotion {
@@ -270,7 +272,14 @@ impl WalkMotion {
             samples.push(r);
         }
         let release = w.release.unwrap_or(w.double_support);
-        Ok(Self::from_samples(samples, release, dt, feet0, lead_time))
+        let mut motion = Self::from_samples(samples, release, dt, feet0, lead_time);
+        motion.preview = Some(params);
+        Ok(motion)
+    }
+
+    /// The preview control's parameters (period, LIPM, horizon) of a footstep-list walk.
+    pub fn preview_params(&self) -> Option<&PreviewParams> {
+        self.preview.as_ref()
     }
 
     /// Runs the MPC on the commands of `v` for `duration` s, re-planning every `dt`, from the
@@ -332,6 +341,7 @@ impl WalkMotion {
             origin,
             feet_rotation0: [feet0[0].rotation, feet0[1].rotation],
             lead_time,
+            preview: None,
         }
     }
 

@@ -8,7 +8,7 @@ mod stabilized;
 mod tsid;
 
 pub use ik::IkController;
-pub use stabilized::Stabilized;
+pub use stabilized::{behind_stabilizer, Stabilized};
 pub use tsid::{TsidController, TsidMode, TALOS_SOLES, TALOS_WAIST};
 
 use super::motion::Targets;

@@ -59,6 +59,19 @@ impl ComTracking for super::TsidController {
     }
 }
 
+/// `inner`, behind the balance stabilizer when its gains file has one (`gains`).
+pub fn behind_stabilizer<C: WholeBodyController + ComTracking + 'static>(
+    inner: C,
+    gains: Option<&StabilizerGains>,
+    mass: f64,
+    dt: f64,
+) -> anyhow::Result<Box<dyn WholeBodyController>> {
+    Ok(match gains {
+        Some(g) => Box::new(Stabilized::new(inner, g, mass, dt)?),
+        None => Box::new(inner),
+    })
+}
+
 impl<C: WholeBodyController + ComTracking> Stabilized<C> {
     /// `inner` behind a stabilizer with gains `g` for a robot of `mass` kg at period `dt`.
     pub fn new(inner: C, g: &StabilizerGains, mass: f64, dt: f64) -> anyhow::Result<Self> {
