@@ -9,7 +9,7 @@
 mod common;
 
 use common::{clarabel_solve, kkt, Reference};
-use corps_qp::{ActiveSetSolver, HierarchicalQp, Level, QpProblem, Settings};
+use corps_qp::{HierarchicalQp, Level, QpProblem};
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
@@ -88,17 +88,8 @@ fn ik_talos_level_matches_clarabel() {
         Reference::Solved { x, objective } => (x, objective),
         other => panic!("Clarabel: {other:?}"),
     };
-    let (n, ne, ni) = p.dims();
     for portable in [false, true] {
-        let mut s = ActiveSetSolver::with_settings(
-            n,
-            ne,
-            ni,
-            Settings {
-                warm_start: false,
-                ..Settings::default()
-            },
-        );
+        let mut s = common::cold_solver(&p);
         if portable {
             s.force_portable_kernels();
         }
@@ -233,12 +224,7 @@ fn degenerate_vertex_qp(seed: u64, n: usize, flat: bool) -> (QpProblem, DVector<
 
 fn check_degenerate_vertex(seed: u64, n: usize, flat: bool) -> Result<(), TestCaseError> {
     let (p, x0) = degenerate_vertex_qp(seed, n, flat);
-    let (n, ne, ni) = p.dims();
-    let settings = Settings {
-        warm_start: false,
-        ..Settings::default()
-    };
-    let mut s = ActiveSetSolver::with_settings(n, ne, ni, settings);
+    let mut s = common::cold_solver(&p);
     let sol = s
         .solve(&p)
         .map_err(|e| TestCaseError::fail(format!("corps-qp: {e}")))?;

@@ -3,25 +3,15 @@
 
 mod common;
 
-use common::{clarabel_solve, kkt, random_feasible_qp, Reference};
-use corps_qp::{ActiveSetSolver, QpError, QpProblem, Settings};
+use common::{clarabel_solve, cold_solver, kkt, random_feasible_qp, Reference};
+use corps_qp::{QpError, QpProblem};
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 fn solve(p: &QpProblem) -> Result<corps_qp::Solution, QpError> {
-    let (n, ne, ni) = p.dims();
-    let mut s = ActiveSetSolver::with_settings(
-        n,
-        ne,
-        ni,
-        Settings {
-            warm_start: false,
-            ..Settings::default()
-        },
-    );
-    s.solve(p).cloned()
+    cold_solver(p).solve(p).cloned()
 }
 
 /// Solve with corps-qp and Clarabel; require x and the objective to agree to 1e-6 and the

@@ -6,11 +6,26 @@ use clarabel::algebra::CscMatrix;
 use clarabel::solver::{
     DefaultSettingsBuilder, DefaultSolver, IPSolver, SolverStatus, SupportedConeT,
 };
-use corps_qp::{QpProblem, Solution};
+use corps_qp::{ActiveSetSolver, QpProblem, Settings, Solution};
 use nalgebra::{DMatrix, DVector};
 use rand::Rng;
 
 /// Random matrix with entries uniform in [−1, 1].
+/// A solver sized for `p` that starts every solve cold (no warm start), as the reference
+/// comparisons need.
+pub fn cold_solver(p: &QpProblem) -> ActiveSetSolver {
+    let (n, ne, ni) = p.dims();
+    ActiveSetSolver::with_settings(
+        n,
+        ne,
+        ni,
+        Settings {
+            warm_start: false,
+            ..Settings::default()
+        },
+    )
+}
+
 pub fn rand_matrix(rng: &mut impl Rng, r: usize, c: usize) -> DMatrix<f64> {
     DMatrix::from_fn(r, c, |_, _| rng.gen_range(-1.0..1.0))
 }
