@@ -122,6 +122,8 @@ pub struct FootstepPlan {
     liftoff: Vec<FootPose>,
     timing: StepTiming,
     swing_height: f64,
+    /// Each step's swing, built once (sampling runs every tick over the preview window).
+    swings: Vec<SwingTrajectory>,
 }
 
 /// `a → b` by the min-jerk polynomial `s(λ) = 10λ³ − 15λ⁴ + 6λ⁵` at `λ ∈ [0, 1]` of a
@@ -181,8 +183,10 @@ impl FootstepPlan {
             steps,
             liftoff,
             timing,
-            swing_height: DEFAULT_APEX_HEIGHT,
-        })
+            swing_height: 0.0,
+            swings: Vec::new(),
+        }
+        .with_swing_height(DEFAULT_APEX_HEIGHT))
     }
 
     /// The same plan with every footstep moved onto `ground`: its height becomes the surface's
@@ -214,6 +218,14 @@ impl FootstepPlan {
     /// Sets the swing apex height (m).
     pub fn with_swing_height(mut self, height: f64) -> Self {
         self.swing_height = height;
+        self.swings = self
+            .liftoff
+            .iter()
+            .zip(&self.steps)
+            .map(|(from, step)| {
+                SwingTrajectory::new(from, &step.pose, self.timing.single_support, height)
+            })
+            .collect();
         self
     }
 
@@ -425,12 +437,7 @@ impl FootstepPlan {
         let (l, r) = self.feet_before(i);
         let support = self.support_before(i);
         if local < tm.single_support {
-            let swing = SwingTrajectory::new(
-                &self.liftoff[i],
-                &step.pose,
-                tm.single_support,
-                self.swing_height,
-            );
+            let swing = &self.swings[i];
             let (p, v) = swing.sample(local);
             out.zmp = pos(&support);
             match step.foot {
