@@ -112,6 +112,19 @@ pub struct PlanSample {
     pub right_vel: FootVelocity,
 }
 
+/// Where a time falls in a plan (see `FootstepPlan::locate`).
+#[derive(Clone, Copy, Debug)]
+enum PlanPhase {
+    /// Before the plan, or a plan without steps.
+    Standing,
+    /// The initial double support, `fraction` of the way through.
+    Initial { fraction: f64 },
+    /// Step `step` swings, `local` s after its lift-off.
+    Single { step: usize, local: f64 },
+    /// The double support after step `step`, `elapsed` s after its touch-down.
+    Double { step: usize, elapsed: f64 },
+}
+
 /// A timed sequence of footsteps from an initial stance.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FootstepPlan {
@@ -403,73 +416,106 @@ impl FootstepPlan {
         }
     }
 
+    /// Where time `t` falls in the plan.
+    fn locate(&self, t: f64) -> PlanPhase {
+        let tm = &self.timing;
+        let n = self.steps.len();
+        if n == 0 || t <= 0.0 {
+            return PlanPhase::Standing;
+        }
+        if t < tm.initial_double_support {
+            return PlanPhase::Initial {
+                fraction: t / tm.initial_double_support,
+            };
+        }
+        let period = tm.single_support + tm.double_support;
+        let tau = t - tm.initial_double_support;
+        let step = ((tau / period).floor() as usize).min(n - 1);
+        let local = tau - step as f64 * period;
+        if local < tm.single_support {
+            PlanPhase::Single { step, local }
+        } else {
+            PlanPhase::Double {
+                step,
+                elapsed: local - tm.single_support,
+            }
+        }
+    }
+
+    /// The ZMP reference and its rate at time `t`, without the feet (what a preview window
+    /// samples hundreds of times per tick). [`FootstepPlan::sample`] gives the same values.
+    pub fn zmp_at(&self, t: f64) -> (Vector3<f64>, Vector3<f64>) {
+        let tm = &self.timing;
+        let still = Vector3::zeros();
+        let initial_mid = mid(&self.initial_left, &self.initial_right);
+        match self.locate(t) {
+            PlanPhase::Standing => (initial_mid, still),
+            PlanPhase::Initial { fraction } => {
+                let b = pos(&self.support_before(0));
+                (
+                    initial_mid + (b - initial_mid) * fraction,
+                    (b - initial_mid) / tm.initial_double_support,
+                )
+            }
+            PlanPhase::Single { step, .. } => (pos(&self.support_before(step)), still),
+            PlanPhase::Double { step, elapsed } => {
+                let a = pos(&self.support_before(step));
+                let (b, dur) = if step + 1 < self.steps.len() {
+                    (pos(&self.steps[step].pose), tm.double_support)
+                } else {
+                    let (l, r) = self.feet_after(step);
+                    (mid(&l, &r), tm.final_double_support)
+                };
+                if elapsed >= dur {
+                    (b, still)
+                } else {
+                    (a + (b - a) * (elapsed / dur), (b - a) / dur)
+                }
+            }
+        }
+    }
+
+    /// The feet once step `i` has touched down.
+    fn feet_after(&self, i: usize) -> (FootPose, FootPose) {
+        let (l, r) = self.feet_before(i);
+        let step = &self.steps[i];
+        match step.foot {
+            Foot::Left => (step.pose, r),
+            Foot::Right => (l, step.pose),
+        }
+    }
+
     /// Phase, ZMP reference and feet at time `t` (constant before 0 and after
     /// [`FootstepPlan::duration`]).
     pub fn sample(&self, t: f64) -> PlanSample {
-        let tm = &self.timing;
         let still = FootVelocity::default();
-        let n = self.steps.len();
+        let (zmp, zmp_vel) = self.zmp_at(t);
         let mut out = PlanSample {
             phase: ContactPhase::Double,
-            zmp: mid(&self.initial_left, &self.initial_right),
-            zmp_vel: Vector3::zeros(),
+            zmp,
+            zmp_vel,
             left: self.initial_left,
             right: self.initial_right,
             left_vel: still,
             right_vel: still,
         };
-        if n == 0 || t <= 0.0 {
-            return out;
-        }
-        if t < tm.initial_double_support {
-            let a = mid(&self.initial_left, &self.initial_right);
-            let b = pos(&self.support_before(0));
-            let lam = t / tm.initial_double_support;
-            out.zmp = a + (b - a) * lam;
-            out.zmp_vel = (b - a) / tm.initial_double_support;
-            return out;
-        }
-        let period = tm.single_support + tm.double_support;
-        let tau = t - tm.initial_double_support;
-        let i = ((tau / period).floor() as usize).min(n - 1);
-        let local = tau - i as f64 * period;
-        let step = self.steps[i];
-        let (l, r) = self.feet_before(i);
-        let support = self.support_before(i);
-        if local < tm.single_support {
-            let swing = &self.swings[i];
-            let (p, v) = swing.sample(local);
-            out.zmp = pos(&support);
-            match step.foot {
-                Foot::Left => {
-                    out.phase = ContactPhase::RightSupport;
-                    (out.left, out.left_vel, out.right) = (p, v, r);
-                }
-                Foot::Right => {
-                    out.phase = ContactPhase::LeftSupport;
-                    (out.right, out.right_vel, out.left) = (p, v, l);
+        match self.locate(t) {
+            PlanPhase::Standing | PlanPhase::Initial { .. } => {}
+            PlanPhase::Single { step, local } => {
+                let (l, r) = self.feet_before(step);
+                let (p, v) = self.swings[step].sample(local);
+                match self.steps[step].foot {
+                    Foot::Left => {
+                        out.phase = ContactPhase::RightSupport;
+                        (out.left, out.left_vel, out.right) = (p, v, r);
+                    }
+                    Foot::Right => {
+                        out.phase = ContactPhase::LeftSupport;
+                        (out.right, out.right_vel, out.left) = (p, v, l);
+                    }
                 }
             }
-            return out;
-        }
-        // double support after step i
-        let (nl, nr) = match step.foot {
-            Foot::Left => (step.pose, r),
-            Foot::Right => (l, step.pose),
-        };
-        out.left = nl;
-        out.right = nr;
-        let ds_t = local - tm.single_support;
-        let (a, b, dur) = if i + 1 < n {
-            (pos(&support), pos(&step.pose), tm.double_support)
-        } else {
-            (pos(&support), mid(&nl, &nr), tm.final_double_support)
-        };
-        if ds_t >= dur {
-            out.zmp = b;
-        } else {
-            out.zmp = a + (b - a) * (ds_t / dur);
-            out.zmp_vel = (b - a) / dur;
+            PlanPhase::Double { step, .. } => (out.left, out.right) = self.feet_after(step),
         }
         out
     }
@@ -519,7 +565,13 @@ impl FootstepPlan {
 
     /// Contact phase at time `t`.
     pub fn phase_at(&self, t: f64) -> ContactPhase {
-        self.sample(t).phase
+        match self.locate(t) {
+            PlanPhase::Single { step, .. } => match self.steps[step].foot {
+                Foot::Left => ContactPhase::RightSupport,
+                Foot::Right => ContactPhase::LeftSupport,
+            },
+            _ => ContactPhase::Double,
+        }
     }
 }
 

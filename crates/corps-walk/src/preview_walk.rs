@@ -27,8 +27,12 @@ pub struct PreviewWalk {
     x: PreviewAxis,
     y: PreviewAxis,
     tick: u64,
+    /// The ZMP reference over the preview window, `buf[j]` at plan time `tp + j T`; slid by
+    /// one sample per step, so each step samples the plan once instead of `N + 1` times.
     buf_x: Vec<f64>,
     buf_y: Vec<f64>,
+    /// Whether the window holds the samples for the current tick.
+    window_filled: bool,
 }
 
 impl PreviewWalk {
@@ -47,6 +51,7 @@ impl PreviewWalk {
             tick: 0,
             buf_x: vec![0.0; n + 1],
             buf_y: vec![0.0; n + 1],
+            window_filled: false,
         })
     }
 
@@ -86,10 +91,18 @@ impl PreviewWalk {
         let t = self.time();
         let tp = self.plan_time(t);
         let dt = self.params.period;
-        for j in 0..self.buf_x.len() {
-            let z = self.plan.sample(tp + j as f64 * dt).zmp;
-            self.buf_x[j] = z.x;
-            self.buf_y[j] = z.y;
+        let n = self.buf_x.len();
+        if self.window_filled {
+            self.buf_x.copy_within(1.., 0);
+            self.buf_y.copy_within(1.., 0);
+            let (z, _) = self.plan.zmp_at(tp + (n - 1) as f64 * dt);
+            (self.buf_x[n - 1], self.buf_y[n - 1]) = (z.x, z.y);
+        } else {
+            for j in 0..n {
+                let (z, _) = self.plan.zmp_at(tp + j as f64 * dt);
+                (self.buf_x[j], self.buf_y[j]) = (z.x, z.y);
+            }
+            self.window_filled = true;
         }
         let s = self.plan.sample(tp);
         let [gz, gz_rate, gz_acc] = self.plan.com_ground(tp);
