@@ -103,7 +103,7 @@ fn sliding_preview_window_matches_a_fresh_window_every_tick() {
     let plan =
         FootstepPlan::straight(6, 0.2, 0.162, Foot::Right, StepTiming::seed000_nominal()).unwrap();
     let params = PreviewParams::talos();
-    let mut g = PreviewWalk::new(plan.clone(), params.clone()).unwrap();
+    let mut g = PreviewWalk::new(plan.clone(), params).unwrap();
     let ctrl = PreviewController::with_integral(&params).unwrap();
     let start = plan.sample(0.0).zmp;
     let (mut x, mut y) = (PreviewAxis::at_rest(start.x), PreviewAxis::at_rest(start.y));
