@@ -46,14 +46,16 @@ pub use algorithms::centroidal::{
     compute_centroidal_momentum, jacobian_center_of_mass,
 };
 pub use algorithms::cholesky::{
-    compute_minverse, factorize_mass_matrix, forward_dynamics_crba, solve_mass_matrix,
+    compute_minverse, factorize_branch_sparse, factorize_mass_matrix, forward_dynamics_crba,
+    solve_mass_matrix,
 };
 pub use algorithms::coriolis::coriolis_matrix;
 pub use algorithms::crba::crba;
 pub use algorithms::energy::{kinetic_energy, potential_energy};
 pub use algorithms::jacobians::{
     compute_joint_jacobians, frame_acceleration, frame_classical_acceleration, frame_jacobian,
-    frame_placement, frame_velocity, update_frame_placements, ReferenceFrame,
+    frame_placement, frame_velocity, update_frame_placements, world_motions_from_jacobians,
+    ReferenceFrame,
 };
 pub use algorithms::kinematics::{forward_kinematics, forward_kinematics_placements};
 pub use algorithms::operational_space::frame_operational_space_inertia;

@@ -614,3 +614,69 @@ fn one_pass_drifts_match_the_separate_algorithms() {
         );
     }
 }
+
+#[test]
+fn world_motions_from_jacobians_match_aba() {
+    // The kinematic state a Jacobian-based integrator leaves must be the one ABA leaves.
+    for (name, model) in robots() {
+        let mut data = Data::new(&model);
+        let mut other = Data::new(&model);
+        let (q, v, _, tau) = random_state(&model, 5);
+        let ddq = aba(
+            &model,
+            &mut data,
+            q.as_slice(),
+            v.as_slice(),
+            tau.as_slice(),
+        )
+        .unwrap()
+        .clone();
+        compute_joint_jacobians(&model, &mut other, q.as_slice()).unwrap();
+        world_motions_from_jacobians(&model, &mut other, v.as_slice(), ddq.as_slice()).unwrap();
+        for i in 0..model.njoints() {
+            assert_close(
+                &format!("{name} joint {i} world velocity"),
+                other.ov[i].to_vector().as_slice(),
+                data.ov[i].to_vector().as_slice(),
+                1e-12,
+            );
+            assert_close(
+                &format!("{name} joint {i} world acceleration"),
+                other.oa[i].to_vector().as_slice(),
+                data.oa[i].to_vector().as_slice(),
+                1e-9,
+            );
+        }
+    }
+}
+
+#[test]
+fn sparse_factorization_solves_a_chain_deeper_than_the_stack_buffer() {
+    // A 70-link serial arm: its deepest dofs have more ancestors than the factorization
+    // keeps on the stack, so both of its elimination paths run.
+    let n = 70;
+    let mut urdf = String::from("<robot name=\"snake\"><link name=\"l0\"/>");
+    for i in 1..=n {
+        urdf += &format!(
+            "<link name=\"l{i}\"><inertial><origin xyz=\"0 0 -0.05\"/><mass value=\"0.3\"/>\
+             <inertia ixx=\"0.001\" iyy=\"0.001\" izz=\"0.0005\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/>\
+             </inertial></link><joint name=\"j{i}\" type=\"revolute\"><parent link=\"l{}\"/>\
+             <child link=\"l{i}\"/><origin xyz=\"0 0 -0.1\"/><axis xyz=\"{} 1 0\"/>\
+             <limit lower=\"-3\" upper=\"3\" effort=\"10\" velocity=\"5\"/></joint>",
+            i - 1,
+            i % 2
+        );
+    }
+    urdf += "</robot>";
+    let model = build_model_from_urdf_str(&urdf, RootJoint::Fixed).unwrap();
+    assert_eq!(model.nv, n);
+    let mut data = Data::new(&model);
+    let q = DVector::from_fn(n, |i, _| 0.3 * (i as f64).sin());
+    let m = crba(&model, &mut data, q.as_slice()).unwrap().clone();
+    factorize_mass_matrix(&model, &mut data);
+    let b = DVector::from_fn(n, |i, _| 1.0 + (i as f64 * 0.7).cos());
+    let mut x = b.clone();
+    solve_mass_matrix(&model, &data.ltdl, x.as_mut_slice());
+    let residual = (&m * &x - &b).norm() / b.norm();
+    assert!(residual < 1e-9, "relative residual {residual:.3e}");
+}

@@ -173,4 +173,30 @@ impl Actuators {
             *t = t.clamp(-lim, *lim);
         }
     }
+
+    /// The servo's linearization for an implicit step, over the actuated joints: writes
+    /// `stiffness[k] = −∂τ_k/∂q_k` and `damping[k] = −∂τ_k/∂q̇_k` (kp and kd for a position
+    /// command, kd for a velocity command, zero for torques), and zero wherever `tau` (from
+    /// [`Actuators::torques`]) sits on the effort limit, where the clamp holds it constant.
+    pub fn linearization(
+        &self,
+        model: &Model,
+        cmd: &Command,
+        tau: &[f64],
+        stiffness: &mut [f64],
+        damping: &mut [f64],
+    ) {
+        let f = self.first;
+        for k in 0..model.nv - f {
+            let saturated = tau[f + k].abs() >= model.effort_limit[f + k];
+            let (kp, kd) = match cmd {
+                _ if saturated => (0.0, 0.0),
+                Command::Torque(_) => (0.0, 0.0),
+                Command::Position { .. } => (self.gains.kp[k], self.gains.kd[k]),
+                Command::Velocity(_) => (0.0, self.gains.kd[k]),
+            };
+            stiffness[k] = kp;
+            damping[k] = kd;
+        }
+    }
 }

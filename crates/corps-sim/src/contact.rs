@@ -56,6 +56,81 @@ pub struct PointForce {
     pub normal_force: f64,
     pub next_anchor: Anchor,
     pub surface: usize,
+    /// Surface normal at the point.
+    pub normal: Vector3<f64>,
+    /// Whether the tangential force sits on the friction cone (the point slides).
+    pub sliding: bool,
+    /// The point's velocity the force was computed with.
+    pub velocity: Vector3<f64>,
+}
+
+/// A point force's linearization about the current state: ∂f/∂x = −K and ∂f/∂ẋ = −D with
+/// `K = k_n nnᵀ + k_t (I − nnᵀ)` and `D = d_n nnᵀ + d_t (I − nnᵀ)`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PointLinearization {
+    pub normal: Vector3<f64>,
+    pub normal_stiffness: f64,
+    pub normal_damping: f64,
+    pub tangential_stiffness: f64,
+    pub tangential_damping: f64,
+}
+
+/// `(a nnᵀ + b (I − nnᵀ)) x`.
+#[inline]
+pub(crate) fn split_times(n: &Vector3<f64>, a: f64, b: f64, x: &Vector3<f64>) -> Vector3<f64> {
+    x * b + n * ((a - b) * n.dot(x))
+}
+
+/// `a nnᵀ + b (I − nnᵀ)` as a matrix (tests check the vector forms against it).
+#[cfg(test)]
+pub(crate) fn split_matrix(n: &Vector3<f64>, a: f64, b: f64) -> nalgebra::Matrix3<f64> {
+    nalgebra::Matrix3::identity() * b + n * n.transpose() * (a - b)
+}
+
+impl PointLinearization {
+    /// `K x`.
+    pub fn stiffness_times(&self, x: &Vector3<f64>) -> Vector3<f64> {
+        split_times(
+            &self.normal,
+            self.normal_stiffness,
+            self.tangential_stiffness,
+            x,
+        )
+    }
+    /// `D x`.
+    pub fn damping_times(&self, x: &Vector3<f64>) -> Vector3<f64> {
+        split_times(
+            &self.normal,
+            self.normal_damping,
+            self.tangential_damping,
+            x,
+        )
+    }
+}
+
+impl PointForce {
+    /// The force's linearization for a point of area share `w`: while pushing, the normal
+    /// spring–damper; a sticking point adds its tangential spring–damper; a sliding point's
+    /// friction force is held constant (its size follows the normal force, its direction the
+    /// slip: neither is linear). Zero when not pushing.
+    pub fn linearization(&self, params: &ContactParams, w: f64) -> PointLinearization {
+        if self.normal_force <= 0.0 {
+            return PointLinearization::default();
+        }
+        let kn = params.normal_stiffness * w;
+        let kt = if self.sliding {
+            0.0
+        } else {
+            params.tangential_stiffness * w
+        };
+        PointLinearization {
+            normal: self.normal,
+            normal_stiffness: kn,
+            normal_damping: kn * params.normal_damping_time,
+            tangential_stiffness: kt,
+            tangential_damping: kt * params.tangential_damping_time,
+        }
+    }
 }
 
 /// Force on a world point at `p` (area share `w`, sphere radius `r`); `velocity` gives the
@@ -87,6 +162,9 @@ pub fn point_force(
                 normal_force: 0.0,
                 next_anchor: Anchor::default(),
                 surface: s,
+                normal: n,
+                sliding: false,
+                velocity: v,
             });
         }
         let vt = v - n * vn;
@@ -101,7 +179,8 @@ pub fn point_force(
             active: true,
         };
         let norm = ft.norm();
-        if norm > limit {
+        let sliding = norm > limit;
+        if sliding {
             // Sliding: the force sits on the cone; the anchor moves so the spring alone gives it.
             ft *= limit / norm;
             next.position = p + ft / kt;
@@ -112,7 +191,68 @@ pub fn point_force(
             normal_force: fn_,
             next_anchor: next,
             surface: s,
+            normal: n,
+            sliding,
+            velocity: v,
         });
     }
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::terrain::{Terrain, TerrainPreset};
+
+    /// The linearization against central differences of the force in position and velocity,
+    /// for a sticking point (anchor 0.2 mm behind) and a sliding one (anchor 5 cm behind).
+    #[test]
+    fn linearization_matches_finite_differences() {
+        let terrain = Terrain::preset(TerrainPreset::Flat, 0.8);
+        let params = ContactParams::default();
+        let w = 1e-3;
+        let p0 = Vector3::new(0.1, -0.2, -4e-4);
+        let v0 = Vector3::new(0.003, -0.002, -0.001);
+        for (offset, sliding) in [(2e-4, false), (0.05, true)] {
+            let anchor = Anchor {
+                position: p0 - Vector3::new(offset, 0.0, 0.0),
+                active: true,
+            };
+            let force = |p: Vector3<f64>, v: Vector3<f64>| {
+                point_force(&terrain, &params, &p, || v, 0.0, w, &anchor).unwrap()
+            };
+            let at = force(p0, v0);
+            assert_eq!(at.sliding, sliding);
+            let lin = at.linearization(&params, w);
+            let k = split_matrix(&lin.normal, lin.normal_stiffness, lin.tangential_stiffness);
+            let d = split_matrix(&lin.normal, lin.normal_damping, lin.tangential_damping);
+            let h = 1e-9;
+            for i in 0..3 {
+                let e = Vector3::ith(i, h);
+                let dfdx = (force(p0 + e, v0).force - force(p0 - e, v0).force) / (2.0 * h);
+                let dfdv = (force(p0, v0 + e).force - force(p0, v0 - e).force) / (2.0 * h);
+                let scale = params.normal_stiffness * w;
+                // A sliding point's friction does change with x and v; the linearization
+                // holds it constant, so compare the normal row there.
+                let rows = if sliding { 2..3 } else { 0..3 };
+                for r in rows {
+                    assert!(
+                        (dfdx[r] + k[(r, i)]).abs() < 1e-4 * scale,
+                        "sliding {sliding}: ∂f{r}/∂x{i} {} vs {}",
+                        dfdx[r],
+                        -k[(r, i)]
+                    );
+                    assert!(
+                        (dfdv[r] + d[(r, i)]).abs() < 1e-4 * scale * params.normal_damping_time,
+                        "sliding {sliding}: ∂f{r}/∂v{i} {} vs {}",
+                        dfdv[r],
+                        -d[(r, i)]
+                    );
+                }
+            }
+            let x = Vector3::new(0.3, -0.7, 1.1);
+            assert!((lin.stiffness_times(&x) - k * x).norm() < 1e-9 * k.norm());
+            assert!((lin.damping_times(&x) - d * x).norm() < 1e-9 * d.norm());
+        }
+    }
 }

@@ -33,6 +33,7 @@
 
 mod actuation;
 mod contact;
+mod contact_pass;
 mod contact_points;
 mod disturbance;
 mod error;
@@ -42,7 +43,7 @@ mod simulator;
 mod terrain;
 
 pub use actuation::{first_actuated, Actuators, Command, ServoGains};
-pub use contact::{point_force, Anchor, ContactParams, PointForce};
+pub use contact::{point_force, Anchor, ContactParams, PointForce, PointLinearization};
 pub use contact_points::{sample_contact_points, ContactPoint, ShapeBound};
 pub use disturbance::Push;
 pub use error::{Result, SimError};

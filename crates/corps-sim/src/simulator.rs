@@ -2,19 +2,19 @@
 //! integrated on the configuration manifold with RK4 (default) or semi-implicit Euler.
 
 use crate::actuation::{Actuators, Command, ServoGains};
-use crate::contact::{point_force, Anchor, ContactParams};
+use crate::contact::{Anchor, ContactParams};
+use crate::contact_pass::{contact_pass, PointVisit};
 use crate::contact_points::{sample_contact_points, ContactPoint, ShapeBound};
 use crate::disturbance::Push;
 use crate::error::{Result, SimError};
-use crate::terrain::{Surface, Terrain};
-use corps_model::spatial::{Force, Motion, Se3};
+use crate::terrain::Terrain;
+use corps_model::spatial::{Force, Se3};
 use corps_model::{aba_with_external_forces, integrate_to, Data, Model};
 use nalgebra::{DVector, Vector3};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
-/// Planes tested in each body's frame (larger terrains fall back to world-frame tests).
-const MAX_LOCAL_PLANES: usize = 8;
+mod implicit;
 
 /// Time integration scheme.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -25,6 +25,10 @@ pub enum Integrator {
     Rk4,
     /// Semi-implicit (symplectic) Euler: one evaluation per step, needs smaller steps.
     SemiImplicitEuler,
+    /// Linearly implicit Euler in the contact springs and joint servos (one factorization of
+    /// M plus their stiffness and damping per step; `simulator/implicit.rs`): stable at 1 ms
+    /// with the stiff contact a torque controller needs, first order, dissipative.
+    ImplicitEuler,
 }
 
 /// Simulation settings.
@@ -129,6 +133,7 @@ pub struct Simulator {
     contact: ContactState,
     acceleration: DVector<f64>,
     work: Rk4Work,
+    implicit: implicit::ImplicitWork,
     /// The command of the last accepted step, and whether `acceleration` (evaluated at the
     /// end of that step) can serve as the first RK4 stage of the next one: it can when the
     /// command is unchanged and no contact anchor moved (first-same-as-last).
@@ -176,6 +181,7 @@ impl Simulator {
             Arc::new(m)
         };
         let n = model.njoints();
+        let points_len = points.len();
         Ok(Self {
             data: Data::new(&model),
             actuators: Actuators::new(&model, gains),
@@ -202,6 +208,7 @@ impl Simulator {
             },
             last_cmd: None,
             first_stage_valid: false,
+            implicit: implicit::ImplicitWork::new(&model, points_len),
             model,
             settings,
             terrain,
@@ -243,6 +250,7 @@ impl Simulator {
         self.v.copy_from_slice(v);
         self.anchors.iter_mut().for_each(|a| *a = Anchor::default());
         self.first_stage_valid = false;
+        self.implicit.terms_valid = false;
         Ok(())
     }
 
@@ -294,6 +302,7 @@ impl Simulator {
 
     /// Total mechanical energy (kinetic + potential) at the current state.
     pub fn energy(&mut self) -> Result<f64> {
+        self.implicit.terms_valid = false;
         let ke = corps_model::kinetic_energy(
             &self.model,
             &mut self.data,
@@ -315,6 +324,11 @@ impl Simulator {
             match self.settings.integrator {
                 Integrator::Rk4 => self.rk4(cmd, h),
                 Integrator::SemiImplicitEuler => self.euler(cmd, h),
+                Integrator::ImplicitEuler => {
+                    self.implicit_euler(cmd, h)?;
+                    self.t += h;
+                    continue;
+                }
             }
             self.t += h;
             self.finish_step(cmd)?;
@@ -393,17 +407,23 @@ impl Simulator {
     /// acceleration (for the IMU), and checks for divergence.
     fn finish_step(&mut self, cmd: &Command) -> Result<()> {
         corps_model::normalize(&self.model, self.q.as_mut_slice());
-        let bad = self.q.iter().chain(self.v.iter()).any(|x| !x.is_finite()) || self.v.amax() > 1e4;
-        if bad {
-            return Err(SimError::Diverged {
-                t: self.t,
-                reason: "non-finite or exploding state".into(),
-            });
-        }
+        self.check_state(self.t)?;
         let w = self.begin_step();
         self.first_stage_valid =
             !self.evaluate(cmd, w.qs.as_slice(), w.vs.as_slice(), self.t, true);
         self.work = w;
+        Ok(())
+    }
+
+    /// A divergence error at time `t` if the state is non-finite or exploding.
+    fn check_state(&self, t: f64) -> Result<()> {
+        let bad = self.q.iter().chain(self.v.iter()).any(|x| !x.is_finite()) || self.v.amax() > 1e4;
+        if bad {
+            return Err(SimError::Diverged {
+                t,
+                reason: "non-finite or exploding state".into(),
+            });
+        }
         Ok(())
     }
 
@@ -431,81 +451,23 @@ impl Simulator {
                         .iter_mut()
                         .for_each(|f| *f = Force::zero());
                 }
-                for b in bounds {
-                    let m = &o_m_i[b.joint];
-                    let center = m.act_point(&b.center);
-                    if terrain
-                        .surfaces
-                        .iter()
-                        .all(|s| s.distance_bound(&center) > b.radius)
-                    {
-                        if record {
-                            for k in b.points.clone() {
-                                contact.point_forces[k] = Vector3::zeros();
-                                contact.point_positions[k] = m.act_point(&points[k].local);
-                                changed |= anchors[k].active;
-                                anchors[k] = Anchor::default();
-                            }
-                        }
-                        continue;
+                let visit = |pt: PointVisit| {
+                    let f = pt.force.as_ref().map_or(Vector3::zeros(), |x| x.force);
+                    let p = pt.position;
+                    let wrench = Force::new(f, p.cross(&f));
+                    fext[pt.joint] += wrench;
+                    if record {
+                        contact.point_forces[pt.index] = f;
+                        contact.point_positions[pt.index] = p;
+                        contact.body_wrenches[pt.joint] += wrench;
+                        let next = pt.force.map_or(Anchor::default(), |x| x.next_anchor);
+                        changed |= next != *pt.anchor;
+                        *pt.anchor = next;
                     }
-                    let twist: &Motion = &ov[b.joint];
-                    // Planes in the body frame: a point can touch plane (n, p₀) only if
-                    // d − n_l·p_l > −r with n_l = Rᵀn, d = n·(p₀ − t); one dot product per point
-                    // instead of a transform. Boxes are tested in the world.
-                    let mut planes = [(Vector3::zeros(), 0.0); MAX_LOCAL_PLANES];
-                    let mut n_planes = 0;
-                    let mut needs_world_test = terrain.surfaces.len() > MAX_LOCAL_PLANES;
-                    for surface in &terrain.surfaces {
-                        match surface {
-                            Surface::Plane { point, normal, .. } if n_planes < MAX_LOCAL_PLANES => {
-                                planes[n_planes] = (
-                                    m.rotation.tr_mul(normal),
-                                    normal.dot(&(point - m.translation)),
-                                );
-                                n_planes += 1;
-                            }
-                            _ => needs_world_test = true,
-                        }
-                    }
-                    for k in b.points.clone() {
-                        let pt = &points[k];
-                        let near = needs_world_test
-                            || planes[..n_planes]
-                                .iter()
-                                .any(|(n, d)| d - n.dot(&pt.local) > -pt.radius);
-                        if !near {
-                            if record {
-                                contact.point_forces[k] = Vector3::zeros();
-                                contact.point_positions[k] = m.act_point(&pt.local);
-                                changed |= anchors[k].active;
-                                anchors[k] = Anchor::default();
-                            }
-                            continue;
-                        }
-                        let p = m.act_point(&pt.local);
-                        let pf = point_force(
-                            terrain,
-                            params,
-                            &p,
-                            || twist.point_velocity(&p),
-                            pt.radius,
-                            pt.weight,
-                            &anchors[k],
-                        );
-                        let f = pf.map_or(Vector3::zeros(), |x| x.force);
-                        let wrench = Force::new(f, p.cross(&f));
-                        fext[b.joint] += wrench;
-                        if record {
-                            contact.point_forces[k] = f;
-                            contact.point_positions[k] = p;
-                            contact.body_wrenches[b.joint] += wrench;
-                            let next = pf.map_or(Anchor::default(), |x| x.next_anchor);
-                            changed |= next != anchors[k];
-                            anchors[k] = next;
-                        }
-                    }
-                }
+                };
+                contact_pass(
+                    terrain, params, points, bounds, anchors, o_m_i, ov, record, visit,
+                );
                 for (push, joint, placement) in pushes {
                     if push.active(t) {
                         let p = o_m_i[*joint].act_point(&placement.translation);

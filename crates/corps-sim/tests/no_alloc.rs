@@ -11,7 +11,16 @@ static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn stepping_and_reading_sensors_do_not_allocate() {
-    let (mut sim, q) = standing_talos();
+    steps_without_allocating(SimSettings::default());
+}
+
+#[test]
+fn implicit_euler_steps_do_not_allocate() {
+    steps_without_allocating(implicit_stiff());
+}
+
+fn steps_without_allocating(settings: SimSettings) {
+    let (mut sim, q) = standing_talos_with(settings);
     let model = sim.model().clone();
     sim.add_push(Push {
         frame: "base_link".into(),

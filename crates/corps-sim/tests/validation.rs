@@ -105,8 +105,7 @@ fn energy_is_conserved_for_a_swinging_fixed_base_robot() {
     );
 }
 
-#[test]
-fn a_box_rests_on_a_plane_with_its_weight_and_does_not_drift() {
+fn box_rests(settings: SimSettings) {
     let (m, g) = (2.0, 9.81);
     let model = box_body(m, [0.2, 0.15, 0.1]);
     let mut q = neutral(&model);
@@ -114,7 +113,7 @@ fn a_box_rests_on_a_plane_with_its_weight_and_does_not_drift() {
     let mut s = sim(
         model.clone(),
         Terrain::preset(TerrainPreset::Flat, 0.8),
-        SimSettings::default(),
+        settings.clone(),
         &q,
     );
     let cmd = zero_torque(&model);
@@ -131,9 +130,19 @@ fn a_box_rests_on_a_plane_with_its_weight_and_does_not_drift() {
     assert!(drift < 1e-5, "drift {drift:.3e} m over 10 s");
 }
 
+#[test]
+fn a_box_rests_on_a_plane_with_its_weight_and_does_not_drift() {
+    box_rests(SimSettings::default());
+}
+
+#[test]
+fn implicit_euler_box_rests_on_a_plane_with_its_weight_and_does_not_drift() {
+    box_rests(implicit_stiff());
+}
+
 /// A block on a plane inclined by `theta` about y, friction `mu`: returns its displacement
 /// along the slope over `seconds`, sampled each control period.
-fn incline(theta: f64, mu: f64, seconds: f64) -> Vec<(f64, f64)> {
+fn incline(settings: SimSettings, theta: f64, mu: f64, seconds: f64) -> Vec<(f64, f64)> {
     let model = box_body(1.0, [0.1, 0.1, 0.05]);
     let n = rpy_to_matrix(0.0, -theta, 0.0) * Vector3::z();
     let terrain = Terrain {
@@ -150,7 +159,7 @@ fn incline(theta: f64, mu: f64, seconds: f64) -> Vec<(f64, f64)> {
     q.as_mut_slice()[3..7].copy_from_slice(&quat);
     let c = n * 0.025;
     q.as_mut_slice()[..3].copy_from_slice(c.as_slice());
-    let mut s = sim(model.clone(), terrain, SimSettings::default(), &q);
+    let mut s = sim(model.clone(), terrain, settings, &q);
     let down = rpy_to_matrix(0.0, -theta, 0.0) * Vector3::x(); // along the slope (descending: -x side)
     let cmd = zero_torque(&model);
     let mut out = vec![];
@@ -163,19 +172,27 @@ fn incline(theta: f64, mu: f64, seconds: f64) -> Vec<(f64, f64)> {
     out
 }
 
-#[test]
-fn a_block_below_the_friction_angle_stays() {
+fn block_stays(settings: SimSettings) {
     // μ = 0.5: friction angle 26.6°; at 20° the block holds.
-    let track = incline(20f64.to_radians(), 0.5, 5.0);
+    let track = incline(settings, 20f64.to_radians(), 0.5, 5.0);
     let slip = track.iter().map(|(_, s)| s.abs()).fold(0.0, f64::max);
     assert!(slip < 1e-3, "slipped {slip:.3e} m in 5 s");
 }
 
 #[test]
-fn a_block_above_the_friction_angle_slides_with_the_coulomb_acceleration() {
+fn a_block_below_the_friction_angle_stays() {
+    block_stays(SimSettings::default());
+}
+
+#[test]
+fn implicit_euler_block_below_the_friction_angle_stays() {
+    block_stays(implicit_stiff());
+}
+
+fn block_slides(settings: SimSettings) {
     let (theta, mu, g) = (35f64.to_radians(), 0.5, 9.81);
     let expected = g * (theta.sin() - mu * theta.cos());
-    let track = incline(theta, mu, 1.5);
+    let track = incline(settings, theta, mu, 1.5);
     // Least-squares fit s = s0 + v0 t + a t²/2 over 0.5–1.5 s.
     let pts: Vec<_> = track.into_iter().filter(|(t, _)| *t >= 0.5).collect();
     let a = fit_acceleration(&pts);
@@ -183,6 +200,16 @@ fn a_block_above_the_friction_angle_slides_with_the_coulomb_acceleration() {
         (a - expected).abs() <= 0.02 * expected,
         "acceleration {a:.4} m/s², analytic {expected:.4}"
     );
+}
+
+#[test]
+fn a_block_above_the_friction_angle_slides_with_the_coulomb_acceleration() {
+    block_slides(SimSettings::default());
+}
+
+#[test]
+fn implicit_euler_block_above_the_friction_angle_slides_with_the_coulomb_acceleration() {
+    block_slides(implicit_stiff());
 }
 
 fn fit_acceleration(pts: &[(f64, f64)]) -> f64 {
@@ -196,8 +223,7 @@ fn fit_acceleration(pts: &[(f64, f64)]) -> f64 {
     (ata.try_inverse().unwrap() * atb)[2]
 }
 
-#[test]
-fn a_dropped_box_settles_without_gaining_energy() {
+fn dropped_box_settles(settings: SimSettings) {
     let model = box_body(1.5, [0.1, 0.1, 0.1]);
     let mut q = neutral(&model);
     q[2] = 0.4;
@@ -207,7 +233,7 @@ fn a_dropped_box_settles_without_gaining_energy() {
     let mut s = sim(
         model.clone(),
         Terrain::preset(TerrainPreset::Flat, 0.8),
-        SimSettings::default(),
+        settings.clone(),
         &q,
     );
     let e0 = s.energy().unwrap();
@@ -233,6 +259,16 @@ fn a_dropped_box_settles_without_gaining_energy() {
     );
 }
 
+#[test]
+fn a_dropped_box_settles_without_gaining_energy() {
+    dropped_box_settles(SimSettings::default());
+}
+
+#[test]
+fn implicit_euler_dropped_box_settles_without_gaining_energy() {
+    dropped_box_settles(implicit_stiff());
+}
+
 fn sole_positions(s: &Simulator) -> [Vector3<f64>; 2] {
     let m = s.model();
     ["leg_left_sole_fix_joint", "leg_right_sole_fix_joint"].map(|f| {
@@ -243,9 +279,8 @@ fn sole_positions(s: &Simulator) -> [Vector3<f64>; 2] {
     })
 }
 
-#[test]
-fn talos_stands_under_the_pd_hold() {
-    let (mut s, q) = standing_talos();
+fn talos_stands(settings: SimSettings) {
+    let (mut s, q) = standing_talos_with(settings);
     let model = s.model().clone();
     let cmd = hold(&model, &q);
     s.step(&cmd).unwrap();
@@ -272,8 +307,17 @@ fn talos_stands_under_the_pd_hold() {
 }
 
 #[test]
-fn a_push_moves_the_standing_robot_in_the_push_direction() {
-    let (mut s, q) = standing_talos();
+fn talos_stands_under_the_pd_hold() {
+    talos_stands(SimSettings::default());
+}
+
+#[test]
+fn implicit_euler_talos_stands_under_the_pd_hold() {
+    talos_stands(implicit_stiff());
+}
+
+fn push_moves_robot(settings: SimSettings) {
+    let (mut s, q) = standing_talos_with(settings);
     let model = s.model().clone();
     let cmd = hold(&model, &q);
     run(&mut s, &cmd, 1.0);
@@ -294,4 +338,14 @@ fn a_push_moves_the_standing_robot_in_the_push_direction() {
         dx > 5.0 * dy.abs(),
         "base moved {dy:.4} m sideways for {dx:.4} m forward"
     );
+}
+
+#[test]
+fn a_push_moves_the_standing_robot_in_the_push_direction() {
+    push_moves_robot(SimSettings::default());
+}
+
+#[test]
+fn implicit_euler_push_moves_the_standing_robot_in_the_push_direction() {
+    push_moves_robot(implicit_stiff());
 }

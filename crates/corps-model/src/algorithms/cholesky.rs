@@ -11,21 +11,66 @@ use nalgebra::{DMatrix, DVector};
 
 /// Factorizes `data.m` (from [`crba`]) into `data.ltdl`.
 pub fn factorize_mass_matrix(model: &Model, data: &mut Data) {
-    let h = &mut data.ltdl;
-    h.copy_from(&data.m);
+    data.ltdl.copy_from(&data.m);
+    factorize_branch_sparse(model, &mut data.ltdl);
+}
+
+/// Factorizes in place a symmetric positive-definite matrix whose non-zeros lie within M's
+/// branch pattern (entry (i, j) only where one dof is an ancestor of the other): M itself, or
+/// M plus terms `Jᵀ K J` of bodies' Jacobians and a diagonal, as an implicit integrator
+/// forms. On return the lower triangle holds L (unit diagonal implied) and the diagonal D,
+/// for [`solve_mass_matrix`].
+pub fn factorize_branch_sparse(model: &Model, h: &mut DMatrix<f64>) {
+    let n = model.nv;
     let par = &model.dof_parent;
-    for k in (0..model.nv).rev() {
+    // Column-major: entry (r, c) at c * n + r.
+    let h = h.as_mut_slice();
+    // The ancestors of k, nearest first: those of the i-th are the chain from i on, so the
+    // inner loop runs over a slice instead of chasing parent links (latency-bound).
+    let mut chain = [0usize; MAX_CHAIN];
+    for k in (0..n).rev() {
+        let mut len = 0;
         let mut i = par[k];
         while let Some(ii) = i {
-            let a = h[(k, ii)] / h[(k, k)];
-            let mut j = Some(ii);
-            while let Some(jj) = j {
-                h[(ii, jj)] -= a * h[(k, jj)];
-                j = par[jj];
+            if len == MAX_CHAIN {
+                break;
             }
-            h[(k, ii)] = a;
+            chain[len] = ii;
+            len += 1;
             i = par[ii];
         }
+        if i.is_some() {
+            eliminate_by_walking(h, n, par, k);
+            continue;
+        }
+        let dk = h[k * n + k];
+        for c in 0..len {
+            let ii = chain[c];
+            let a = h[ii * n + k] / dk;
+            for &jj in &chain[c..len] {
+                h[jj * n + ii] -= a * h[jj * n + k];
+            }
+            h[ii * n + k] = a;
+        }
+    }
+}
+
+/// Longest ancestor chain kept on the stack (deeper trees take the walking path).
+const MAX_CHAIN: usize = 64;
+
+/// Row `k`'s elimination step of [`factorize_branch_sparse`], following parent links.
+fn eliminate_by_walking(h: &mut [f64], n: usize, par: &[Option<usize>], k: usize) {
+    let dk = h[k * n + k];
+    let mut i = par[k];
+    while let Some(ii) = i {
+        let a = h[ii * n + k] / dk;
+        let mut j = Some(ii);
+        while let Some(jj) = j {
+            h[jj * n + ii] -= a * h[jj * n + k];
+            j = par[jj];
+        }
+        h[ii * n + k] = a;
+        i = par[ii];
     }
 }
 

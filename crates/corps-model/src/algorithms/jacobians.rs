@@ -77,6 +77,34 @@ pub fn compute_joint_jacobians<'d>(
     Ok(&data.j)
 }
 
+/// World twists `data.ov` and world accelerations `data.oa` of every joint (spatial, at the
+/// world origin; the root's acceleration holds −g, as ABA leaves it), from the world Jacobian
+/// columns already in `data.j` at the same configuration (after [`compute_joint_jacobians`]
+/// or [`crate::crba`]): `ᵒv_i = ᵒv_λ + J_i q̇_i`, `ᵒa_i = ᵒa_λ + J_i q̈_i + ᵒv_i × J_i q̇_i`
+/// (RBDA Eq. 5.7–5.8 in world coordinates). A simulator that integrates without ABA uses it
+/// to leave the same kinematic state as an ABA step would.
+pub fn world_motions_from_jacobians(
+    model: &Model,
+    data: &mut Data,
+    v: &[f64],
+    a: &[f64],
+) -> Result<()> {
+    crate::model::check_vector("velocity v", v, model.nv)?;
+    crate::model::check_vector("acceleration a", a, model.nv)?;
+    let a0 = Motion::new(-model.gravity, nalgebra::Vector3::zeros());
+    for (i, j) in model.joints.iter().enumerate() {
+        let vj = joint_world_twist(data, j, v);
+        let aj = joint_world_twist(data, j, a);
+        let (vp, ap) = j
+            .parent
+            .map_or((Motion::zero(), a0), |p| (data.ov[p], data.oa[p]));
+        let ov = vp + vj;
+        data.ov[i] = ov;
+        data.oa[i] = ap + aj + ov.cross(&vj);
+    }
+    Ok(())
+}
+
 /// Placements of every frame in the world (`data.o_m_f`), from the current joint placements.
 pub fn update_frame_placements(model: &Model, data: &mut Data) {
     for (f, frame) in model.frames.iter().enumerate() {

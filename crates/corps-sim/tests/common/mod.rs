@@ -63,6 +63,11 @@ pub fn hold(model: &Model, q: &DVector<f64>) -> Command {
 /// TALOS in half-sitting placed on flat ground (μ 0.8), default settings, with the stiff
 /// joint PD servo; returns the simulator and the configuration it holds.
 pub fn standing_talos() -> (Simulator, DVector<f64>) {
+    standing_talos_with(SimSettings::default())
+}
+
+/// TALOS in half-sitting on flat ground under the high-gain servo, with `settings`.
+pub fn standing_talos_with(settings: SimSettings) -> (Simulator, DVector<f64>) {
     let model = talos();
     let mut q = model
         .reference_configuration("half_sitting")
@@ -73,10 +78,23 @@ pub fn standing_talos() -> (Simulator, DVector<f64>) {
     let s = Simulator::new(
         model,
         Terrain::preset(TerrainPreset::Flat, 0.8),
-        SimSettings::default(),
+        settings,
         q.as_slice(),
         gains,
     )
     .unwrap();
     (s, q)
+}
+
+/// The walking runs' simulator: linearly implicit Euler at 1 ms with the stiff contact a
+/// rigid-contact torque controller needs (4·10⁸ N/m per m², 10× the default).
+#[allow(dead_code)]
+pub fn implicit_stiff() -> SimSettings {
+    let mut s = SimSettings {
+        integrator: Integrator::ImplicitEuler,
+        ..SimSettings::default()
+    };
+    s.contact.normal_stiffness = 4e8;
+    s.contact.tangential_stiffness = 4e8;
+    s
 }
