@@ -24,15 +24,63 @@ pub struct PreviewWalk {
     plan: FootstepPlan,
     controller: PreviewController,
     params: PreviewParams,
+    /// The LIPM per axis, relative to `origin`.
     x: PreviewAxis,
     y: PreviewAxis,
+    /// Where the preview control's coordinates start (the CoM at rest at the first tick): a
+    /// finite window makes the control slightly position-dependent (its gains give
+    /// `G_x[0] + Σ G_d ≠ 0`), so a robot at rest at the origin of these coordinates gets no
+    /// command until the reference moves.
+    origin: (f64, f64),
     tick: u64,
-    /// The ZMP reference over the preview window, `buf[j]` at plan time `tp + j T`; slid by
-    /// one sample per step, so each step samples the plan once instead of `N + 1` times.
-    buf_x: Vec<f64>,
-    buf_y: Vec<f64>,
-    /// Whether the window holds the samples for the current tick.
+    /// The ZMP reference over the preview window, per axis.
+    window_x: PreviewWindow,
+    window_y: PreviewWindow,
+    /// Whether the windows hold the samples for the current tick.
     window_filled: bool,
+    /// Where the CoM stands before the plan, if not above the middle of the feet.
+    start: Option<(f64, f64)>,
+}
+
+/// A sliding window of `len` samples kept contiguous without shifting: every sample is
+/// stored twice, at slot `s` and `s + len` of a `2 len` buffer, so the window starting at
+/// `head` is always `buf[head..head + len]`. Each tick writes one new sample.
+#[derive(Debug, Clone)]
+struct PreviewWindow {
+    buf: Vec<f64>,
+    head: usize,
+}
+
+impl PreviewWindow {
+    fn new(len: usize) -> Self {
+        Self {
+            buf: vec![0.0; 2 * len],
+            head: 0,
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.buf.len() / 2
+    }
+
+    /// Sets sample `j` of the current window.
+    fn set(&mut self, j: usize, value: f64) {
+        let n = self.len();
+        let slot = (self.head + j) % n;
+        self.buf[slot] = value;
+        self.buf[slot + n] = value;
+    }
+
+    /// Drops the oldest sample and appends `value` as the newest.
+    fn slide(&mut self, value: f64) {
+        let n = self.len();
+        self.head = (self.head + 1) % n;
+        self.set(n - 1, value);
+    }
+
+    fn samples(&self) -> &[f64] {
+        &self.buf[self.head..self.head + self.len()]
+    }
 }
 
 impl PreviewWalk {
@@ -46,13 +94,46 @@ impl PreviewWalk {
             plan,
             controller,
             params,
-            x: PreviewAxis::at_rest(start.x),
-            y: PreviewAxis::at_rest(start.y),
+            x: PreviewAxis::at_rest(0.0),
+            y: PreviewAxis::at_rest(0.0),
+            origin: (start.x, start.y),
             tick: 0,
-            buf_x: vec![0.0; n + 1],
-            buf_y: vec![0.0; n + 1],
+            window_x: PreviewWindow::new(n + 1),
+            window_y: PreviewWindow::new(n + 1),
             window_filled: false,
+            start: None,
         })
+    }
+
+    /// The same generator starting from a robot at rest with its CoM at `(x, y)` instead of
+    /// above the middle of its feet (TALOS' settled half-sitting stands 27 mm ahead of it).
+    /// Before the plan starts, the ZMP reference moves from `(x, y)` to the plan's first ZMP
+    /// along a min-jerk profile over the standing window ([`PreviewWalk::lead_time`]), so
+    /// the reference begins where the robot stands and neither the ZMP reference nor the CoM
+    /// jumps at the first tick.
+    pub fn starting_at(mut self, x: f64, y: f64) -> Self {
+        self.x = PreviewAxis::at_rest(0.0);
+        self.y = PreviewAxis::at_rest(0.0);
+        self.origin = (x, y);
+        self.start = Some((x, y));
+        self.window_filled = false;
+        self
+    }
+
+    /// The ZMP reference (x, y) at plan time `tp`, relative to the origin.
+    fn reference_zmp(&self, tp: f64) -> (f64, f64) {
+        let (z, _) = self.plan.zmp_at(tp);
+        let (ox, oy) = self.origin;
+        match self.start {
+            Some((x0, y0)) if tp < 0.0 => {
+                // Held for the first half of the standing window, then min-jerk to the plan.
+                let half = 0.5 * self.lead_time();
+                let lam = ((tp + half) / half).clamp(0.0, 1.0);
+                let s = lam * lam * lam * (10.0 - 15.0 * lam + 6.0 * lam * lam);
+                (x0 + (z.x - x0) * s - ox, y0 + (z.y - y0) * s - oy)
+            }
+            _ => (z.x - ox, z.y - oy),
+        }
     }
 
     /// The plan.
@@ -91,29 +172,30 @@ impl PreviewWalk {
         let t = self.time();
         let tp = self.plan_time(t);
         let dt = self.params.period;
-        let n = self.buf_x.len();
+        let n = self.window_x.len();
         if self.window_filled {
-            self.buf_x.copy_within(1.., 0);
-            self.buf_y.copy_within(1.., 0);
-            let (z, _) = self.plan.zmp_at(tp + (n - 1) as f64 * dt);
-            (self.buf_x[n - 1], self.buf_y[n - 1]) = (z.x, z.y);
+            let (x, y) = self.reference_zmp(tp + (n - 1) as f64 * dt);
+            self.window_x.slide(x);
+            self.window_y.slide(y);
         } else {
             for j in 0..n {
-                let (z, _) = self.plan.zmp_at(tp + j as f64 * dt);
-                (self.buf_x[j], self.buf_y[j]) = (z.x, z.y);
+                let (x, y) = self.reference_zmp(tp + j as f64 * dt);
+                self.window_x.set(j, x);
+                self.window_y.set(j, y);
             }
             self.window_filled = true;
         }
         let s = self.plan.sample(tp);
         let [gz, gz_rate, gz_acc] = self.plan.com_ground(tp);
         let m = &self.controller.model;
+        let (ox, oy) = self.origin;
         let zc = self.params.lipm.com_height;
         let mut r = WalkingReference {
             time: t,
-            com: Vector3::new(self.x.x[0], self.y.x[0], gz + zc),
+            com: Vector3::new(ox + self.x.x[0], oy + self.y.x[0], gz + zc),
             com_vel: Vector3::new(self.x.x[1], self.y.x[1], gz_rate),
             com_acc: Vector3::new(self.x.x[2], self.y.x[2], gz_acc),
-            zmp: Vector3::new(m.zmp(&self.x.x), m.zmp(&self.y.x), s.zmp.z),
+            zmp: Vector3::new(ox + m.zmp(&self.x.x), oy + m.zmp(&self.y.x), s.zmp.z),
             left_foot: s.left,
             right_foot: s.right,
             left_foot_vel: s.left_vel,
@@ -122,8 +204,8 @@ impl PreviewWalk {
             ..Default::default()
         };
         r.complete(self.params.lipm.omega());
-        self.controller.step(&mut self.x, &self.buf_x)?;
-        self.controller.step(&mut self.y, &self.buf_y)?;
+        self.controller.step(&mut self.x, self.window_x.samples())?;
+        self.controller.step(&mut self.y, self.window_y.samples())?;
         self.tick += 1;
         Ok(r)
     }

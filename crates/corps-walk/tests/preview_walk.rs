@@ -123,3 +123,36 @@ fn sliding_preview_window_matches_a_fresh_window_every_tick() {
     }
     assert!(worst < 1e-9, "CoM differs by {worst} m");
 }
+
+/// A robot that stands with its CoM 27 mm ahead of the middle of its feet (TALOS' settled
+/// half-sitting): the reference starts there, moves smoothly during the standing window,
+/// and the walk then tracks the plan as from the middle of the feet.
+#[test]
+fn a_walk_starting_off_centre_starts_where_the_robot_stands() {
+    let plan =
+        FootstepPlan::straight(6, 0.2, 0.162, Foot::Right, StepTiming::seed000_nominal()).unwrap();
+    let mut g = PreviewWalk::new(plan.clone(), PreviewParams::talos())
+        .unwrap()
+        .starting_at(0.027, -0.004);
+    let first = g.step().unwrap();
+    assert!((first.com.xy() - nalgebra::Vector2::new(0.027, -0.004)).norm() < 1e-9);
+    assert!((first.zmp.xy() - nalgebra::Vector2::new(0.027, -0.004)).norm() < 1e-4);
+    let (mut prev, mut largest_jump) = (first.zmp.xy(), 0.0f64);
+    let mut worst_after = 0.0f64;
+    while g.plan_time(g.time()) < plan.duration() {
+        let r = g.step().unwrap();
+        let tp = g.plan_time(r.time);
+        if tp < 0.0 {
+            largest_jump = largest_jump.max((r.zmp.xy() - prev).norm());
+        } else {
+            let s = plan.sample(tp);
+            worst_after = worst_after.max((r.zmp.xy() - s.zmp.xy()).norm());
+        }
+        prev = r.zmp.xy();
+    }
+    assert!(
+        largest_jump < 1e-4,
+        "ZMP reference jumped {largest_jump} m in one tick"
+    );
+    assert!(worst_after < 0.1, "ZMP off the plan by {worst_after} m");
+}

@@ -183,9 +183,11 @@ fn tsid_position_walks_six_20_cm_steps() {
 }
 
 #[test]
-#[ignore = "falls: TSID position with the fast timing (0.711 / 0.089 s) loses balance, base below 0.9 m at t = 7.79 s after the handover (the pelvis roll and pitch of the real robot grow over the steps, see tsid_position_walks_six_20_cm_steps)"]
+// Walks since the walks run on the stiff contact (implicit Euler): on the default compliant
+// contact (0.4 mm sinking under the robot's weight) its pelvis roll and pitch grew over the
+// steps and it fell at 7.79 s after the handover.
 fn tsid_position_walks_with_the_fast_timing() {
-    walk("tsid_position_20cm_fast");
+    assert_dynamic_filter_helped(&walk("tsid_position_20cm_fast"));
 }
 
 #[test]

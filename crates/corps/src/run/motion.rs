@@ -251,9 +251,9 @@ impl MotionPlan {
         // CoM height above the soles at the handover.
         let com_height = com0.z - (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
         let walk = match &section {
-            MotionSection::Walk(w) => Some(WalkMotion::new(
-                w, &feet0, com_height, dt, duration, terrain,
-            )?),
+            MotionSection::Walk(w) => {
+                Some(WalkMotion::new(w, &feet0, &com0, dt, duration, terrain)?)
+            }
             MotionSection::Velocity(v) => {
                 Some(WalkMotion::velocity(v, &feet0, com_height, dt, duration)?)
             }

@@ -214,17 +214,19 @@ pub struct WalkMotion {
 }
 
 impl WalkMotion {
-    /// Plans the walk from the soles `feet0` with the CoM at height `com_height` above them,
-    /// for `duration` s at period `dt`; with `on_terrain` the footsteps land on `terrain`.
+    /// Plans the walk from the soles `feet0` and the CoM `com0` (at rest), for `duration` s
+    /// at period `dt`; with `on_terrain` the footsteps land on `terrain`.
     pub fn new(
         w: &WalkSection,
         feet0: &[Se3; 2],
-        com_height: f64,
+        com0: &Vector3<f64>,
         dt: f64,
         duration: f64,
         terrain: &Terrain,
     ) -> Result<Self> {
         let (l, r) = (feet0[0].translation, feet0[1].translation);
+        let origin = (l + r) / 2.0;
+        let com_height = com0.z - origin.z;
         let feet_distance = (l - r).xy().norm();
         let first = match w.first {
             Side::Left => Foot::Left,
@@ -252,7 +254,9 @@ impl WalkMotion {
         params.period = dt;
         params.lipm = Lipm::new(walking_height, super::GRAVITY).context("motion: LIPM")?;
         params.horizon = (1.6 / dt).round() as usize;
-        let mut walk = PreviewWalk::new(plan, params).context("motion: preview control")?;
+        let mut walk = PreviewWalk::new(plan, params)
+            .context("motion: preview control")?
+            .starting_at(com0.x - origin.x, com0.y - origin.y);
         let lead_time = walk.lead_time();
         let n = (duration / dt).round() as usize + 1;
         let mut samples = Vec::with_capacity(n);
@@ -458,7 +462,7 @@ mod tests {
         let w = WalkMotion::new(
             &section(),
             &feet0,
-            0.87,
+            &Vector3::new(0.0, 0.0, 0.87),
             dt,
             6.0,
             &corps_sim::Terrain::default(),
