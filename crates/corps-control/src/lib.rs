@@ -7,11 +7,12 @@
 //! (`tests/tsid_crosscheck.rs` rebuilds 25 of TSID's TALOS QPs and matches its solutions).
 //!
 //! In closed loop with the corps simulator (`tests/closed_loop.rs`), the torque-mode
-//! controller needs a stiff contact (4·10⁸ N/m³, 10× the simulator's default) and 0.25 ms
-//! physics steps: with the default compliant contact the QP's rigid-contact torques rock the
-//! light feet on their contact springs (a ≈100 Hz foot mode) and the loop diverges within
-//! 0.3–1 s; at 10× stiffness and 0.5 ms it still rings. An implicit (constraint-based) contact
-//! in the simulator would remove this restriction.
+//! controller needs a stiff contact (4·10⁸ N/m³, 10× the simulator's default): with the
+//! default compliant contact the QP's rigid-contact torques rock the light feet on their
+//! contact springs (a ≈100 Hz foot mode) and the loop diverges within 0.3–1 s. Explicit RK4
+//! needs 0.25 ms steps on that contact (at 0.5 ms it still rings); the simulator's linearly
+//! implicit Euler (`Integrator::ImplicitEuler`) takes it in one 1 ms step, and the scenarios
+//! in `scenarios/` run that way.
 
 pub mod contacts;
 mod error;
