@@ -69,7 +69,14 @@ pub struct InverseDynamics {
     solver: ActiveSetSolver,
     pub output: IdOutput,
     transitions: Vec<Transition>,
-    scratch: DVector<f64>,
+    scratch: RowScratch,
+}
+
+/// One task row gathered for [`add_least_squares`]: its values and its non-zero columns.
+#[derive(Clone, Debug)]
+struct RowScratch {
+    values: Vec<f64>,
+    nonzeros: Vec<usize>,
 }
 
 impl InverseDynamics {
@@ -95,7 +102,10 @@ impl InverseDynamics {
                 tau: DVector::zeros(na),
             },
             transitions: Vec::new(),
-            scratch: DVector::zeros(model.nv),
+            scratch: RowScratch {
+                values: vec![0.0; model.nv],
+                nonzeros: Vec::with_capacity(model.nv),
+            },
         }
     }
 
@@ -353,7 +363,7 @@ impl InverseDynamics {
             }
         }
         // Cost terms on q̈.
-        let row = self.scratch.as_mut_slice();
+        let row = &mut self.scratch;
         if let Some((task, w)) = &mut self.com {
             add_least_squares(&mut p.h, &mut p.g, task.compute(s), *w, row);
         }
@@ -406,33 +416,45 @@ impl InverseDynamics {
 }
 
 /// `H += w AᵀA` and `g −= w Aᵀ b` over the first `A.ncols()` variables, as one rank-1 update
-/// `w a_r a_rᵀ` per task row (contiguous inner loops over H's columns); `row` is scratch of at
-/// least `A.ncols()` entries.
+/// `w a_r a_rᵀ` per task row. A frame task's rows are zero outside the frame's chain (a
+/// foot's: 12 of TALOS' 38 columns), so a sparse row updates only its non-zero block; a
+/// dense one (CoM, momentum) runs contiguous inner loops over H's columns.
 fn add_least_squares(
     h: &mut DMatrix<f64>,
     g: &mut DVector<f64>,
     rows: &TaskRows,
     w: f64,
-    row: &mut [f64],
+    scratch: &mut RowScratch,
 ) {
     let (m, n) = (rows.a.nrows(), rows.a.ncols());
     let nh = h.nrows();
     let a = rows.a.as_slice();
     let hs = h.as_mut_slice();
-    let row = &mut row[..n];
+    let row = &mut scratch.values[..n];
+    let nonzeros = &mut scratch.nonzeros;
     for r in 0..m {
+        nonzeros.clear();
         for (i, x) in row.iter_mut().enumerate() {
             *x = a[i * m + r];
+            if *x != 0.0 {
+                nonzeros.push(i);
+            }
         }
         let br = w * rows.b[r];
-        for (j, aj) in row.iter().enumerate() {
+        let sparse = 2 * nonzeros.len() < n;
+        for &j in nonzeros.iter() {
+            let aj = row[j];
             g[j] -= br * aj;
-            if *aj == 0.0 {
-                continue;
-            }
             let s = w * aj;
-            for (hij, ai) in hs[j * nh..j * nh + n].iter_mut().zip(row.iter()) {
-                *hij += s * ai;
+            let column = &mut hs[j * nh..j * nh + n];
+            if sparse {
+                for &i in nonzeros.iter() {
+                    column[i] += s * row[i];
+                }
+            } else {
+                for (hij, ai) in column.iter_mut().zip(row.iter()) {
+                    *hij += s * ai;
+                }
             }
         }
     }

@@ -1,0 +1,74 @@
+#!/usr/bin/env python3
+"""Real-time factor of whole walks in the simulator, with control at 1 kHz.
+
+Times `corps run` on a walk scenario (wall clock of the whole command: planning, simulation,
+control, log, metrics and plots) in alternating rounds with an anchor: the same scenario on
+the simulator setup the torque walks used before implicit Euler (4 RK4 substeps per tick on
+the same stiff contact). The machine is shared and its speed drifts by up to 2x over
+minutes, so both see the same load; the table gives medians over rounds, the range, and the
+ratio. Real-time factor = simulated time (settle + controlled duration) / wall time.
+
+Usage (from the repository root, after `cargo build --release`):
+    python3 tools/bench/walk_speed.py [--rounds 7] [scenario.toml ...]
+"""
+import argparse
+import pathlib
+import re
+import statistics
+import subprocess
+import tempfile
+import time
+import tomllib
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+BIN = ROOT / "target" / "release" / "corps"
+DEFAULT = ["scenarios/walk/tsid_torque_20cm.toml"]
+
+
+def rk4_variant(path: pathlib.Path, out_dir: pathlib.Path) -> pathlib.Path:
+    """The scenario with its [sim] integrator replaced by 4 RK4 substeps."""
+    text = path.read_text()
+    text = re.sub(r'(?m)^integrator = "implicit_euler"$', 'integrator = "rk4"\nsubsteps = 4', text)
+    out = out_dir / f"{path.stem}_rk4x4.toml"
+    out.write_text(text)
+    return out
+
+
+def simulated_seconds(path: pathlib.Path) -> float:
+    s = tomllib.loads(path.read_text())
+    settle = s.get("controller", {}).get("settle", 0.5)
+    return s["duration"] + settle
+
+
+def wall(scenario: pathlib.Path, out: pathlib.Path) -> float:
+    t = time.perf_counter()
+    subprocess.run([str(BIN), "run", str(scenario), "-o", str(out)], check=True,
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=ROOT)
+    return time.perf_counter() - t
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--rounds", type=int, default=7)
+    ap.add_argument("scenarios", nargs="*", default=DEFAULT)
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = pathlib.Path(tmp)
+        print("| walk | simulated | wall median (range) | real-time factor | "
+              "anchor: 4 RK4 substeps, wall median | speed-up |")
+        print("|---|---:|---:|---:|---:|---:|")
+        for name in args.scenarios:
+            path = ROOT / name
+            anchor = rk4_variant(path, tmp)
+            sim_s = simulated_seconds(path)
+            ours, theirs = [], []
+            for _ in range(args.rounds):
+                ours.append(wall(path, tmp / "ours"))
+                theirs.append(wall(anchor, tmp / "anchor"))
+            mo, ma = statistics.median(ours), statistics.median(theirs)
+            print(f"| {path.stem} | {sim_s:.1f} s | {mo:.2f} s ({min(ours):.2f}–{max(ours):.2f}) "
+                  f"| {sim_s / mo:.1f}× | {ma:.2f} s | {ma / mo:.1f}× |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
