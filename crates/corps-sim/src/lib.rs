@@ -5,8 +5,10 @@
 //! terrain of planes and boxes, and pushes; sensors read it with seeded noise.
 //!
 //! - dynamics: ABA with the contact and push wrenches as external forces;
-//! - integration: RK4 on the configuration manifold (default; semi-implicit Euler available),
-//!   1 ms control period, physics substeps a setting;
+//! - integration on the configuration manifold: RK4 (default), semi-implicit Euler, or
+//!   linearly implicit Euler in the contact springs and servos (one sparse factorization per
+//!   step, stable at 1 ms on the stiff contact a torque controller needs); 1 ms control
+//!   period, physics substeps a setting;
 //! - contact: spring–damper normal force and an anchored tangential spring on the Coulomb cone
 //!   (stiction without creep), on points sampled over the robot's box/cylinder/sphere shapes;
 //! - actuation: torques, positions through a joint PD servo, or velocities, clamped at the
