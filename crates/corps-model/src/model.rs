@@ -46,9 +46,20 @@ pub struct Model {
     pub dof_parent: Vec<Option<usize>>,
     /// For each velocity index, the joint it belongs to.
     pub dof_joint: Vec<usize>,
+    /// The ancestors of every velocity index (nearest first), flattened: those of `k` are
+    /// `dof_ancestors[dof_ancestors_start[k]..dof_ancestors_start[k + 1]]`. The sparse
+    /// factorization walks them as slices instead of chasing parent links.
+    pub dof_ancestors: Vec<usize>,
+    pub dof_ancestors_start: Vec<usize>,
 }
 
 impl Model {
+    /// The ancestors of velocity index `k`, nearest first (empty at a root).
+    #[inline]
+    pub fn dof_ancestors(&self, k: usize) -> &[usize] {
+        &self.dof_ancestors[self.dof_ancestors_start[k]..self.dof_ancestors_start[k + 1]]
+    }
+
     /// Number of moving joints.
     pub fn njoints(&self) -> usize {
         self.joints.len()

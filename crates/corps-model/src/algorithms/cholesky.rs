@@ -22,32 +22,15 @@ pub fn factorize_mass_matrix(model: &Model, data: &mut Data) {
 /// for [`solve_mass_matrix`].
 pub fn factorize_branch_sparse(model: &Model, h: &mut DMatrix<f64>) {
     let n = model.nv;
-    let par = &model.dof_parent;
-    // Column-major: entry (r, c) at c * n + r.
+    // Column-major: entry (r, c) at c * n + r. The ancestors of the c-th ancestor of k are
+    // k's chain from c on, so every inner loop runs over a slice.
     let h = h.as_mut_slice();
-    // The ancestors of k, nearest first: those of the i-th are the chain from i on, so the
-    // inner loop runs over a slice instead of chasing parent links (latency-bound).
-    let mut chain = [0usize; MAX_CHAIN];
     for k in (0..n).rev() {
-        let mut len = 0;
-        let mut i = par[k];
-        while let Some(ii) = i {
-            if len == MAX_CHAIN {
-                break;
-            }
-            chain[len] = ii;
-            len += 1;
-            i = par[ii];
-        }
-        if i.is_some() {
-            eliminate_by_walking(h, n, par, k);
-            continue;
-        }
+        let chain = model.dof_ancestors(k);
         let dk = h[k * n + k];
-        for c in 0..len {
-            let ii = chain[c];
+        for (c, &ii) in chain.iter().enumerate() {
             let a = h[ii * n + k] / dk;
-            for &jj in &chain[c..len] {
+            for &jj in &chain[c..] {
                 h[jj * n + ii] -= a * h[jj * n + k];
             }
             h[ii * n + k] = a;
@@ -55,45 +38,23 @@ pub fn factorize_branch_sparse(model: &Model, h: &mut DMatrix<f64>) {
     }
 }
 
-/// Longest ancestor chain kept on the stack (deeper trees take the walking path).
-const MAX_CHAIN: usize = 64;
-
-/// Row `k`'s elimination step of [`factorize_branch_sparse`], following parent links.
-fn eliminate_by_walking(h: &mut [f64], n: usize, par: &[Option<usize>], k: usize) {
-    let dk = h[k * n + k];
-    let mut i = par[k];
-    while let Some(ii) = i {
-        let a = h[ii * n + k] / dk;
-        let mut j = Some(ii);
-        while let Some(jj) = j {
-            h[jj * n + ii] -= a * h[jj * n + k];
-            j = par[jj];
-        }
-        h[ii * n + k] = a;
-        i = par[ii];
-    }
-}
-
 /// Solves M x = b in place with the factorization in `data.ltdl`.
 pub fn solve_mass_matrix(model: &Model, ltdl: &DMatrix<f64>, b: &mut [f64]) {
-    let par = &model.dof_parent;
     let n = model.nv;
+    let h = ltdl.as_slice(); // column-major: L[k, i] = h[i * n + k]
     for k in (0..n).rev() {
-        let mut i = par[k];
-        while let Some(ii) = i {
-            b[ii] -= ltdl[(k, ii)] * b[k];
-            i = par[ii];
+        let bk = b[k];
+        for &ii in model.dof_ancestors(k) {
+            b[ii] -= h[ii * n + k] * bk;
         }
     }
     for (k, bk) in b.iter_mut().enumerate() {
-        *bk /= ltdl[(k, k)];
+        *bk /= h[k * n + k];
     }
     for k in 0..n {
-        let mut i = par[k];
         let mut acc = b[k];
-        while let Some(ii) = i {
-            acc -= ltdl[(k, ii)] * b[ii];
-            i = par[ii];
+        for &ii in model.dof_ancestors(k) {
+            acc -= h[ii * n + k] * b[ii];
         }
         b[k] = acc;
     }

@@ -519,6 +519,16 @@ impl<'a> TreeBuilder<'a> {
                 };
             }
         }
+        let mut dof_ancestors = Vec::new();
+        let mut dof_ancestors_start = vec![0];
+        for k in 0..self.nv {
+            let mut i = dof_parent[k];
+            while let Some(ii) = i {
+                dof_ancestors.push(ii);
+                i = dof_parent[ii];
+            }
+            dof_ancestors_start.push(dof_ancestors.len());
+        }
         Model {
             name,
             joints: self.out_joints,
@@ -536,6 +546,8 @@ impl<'a> TreeBuilder<'a> {
             subtree_nv,
             dof_parent,
             dof_joint,
+            dof_ancestors,
+            dof_ancestors_start,
         }
     }
 }

@@ -88,10 +88,10 @@ impl ImplicitWork {
 fn chain_of(model: &Model, joint: usize, out: &mut Vec<usize>) {
     out.clear();
     let j = &model.joints[joint];
-    let mut k = (j.nv() > 0).then(|| j.idx_v + j.nv() - 1);
-    while let Some(kk) = k {
-        out.push(kk);
-        k = model.dof_parent[kk];
+    if j.nv() > 0 {
+        let last = j.idx_v + j.nv() - 1;
+        out.push(last);
+        out.extend_from_slice(model.dof_ancestors(last));
     }
 }
 
