@@ -104,7 +104,9 @@ impl SimSettings {
     }
 }
 
-/// Contact forces at the end of the last step, for sensors, logs and tests.
+/// Contact forces at the end of the last step, for sensors, logs and tests. Under implicit
+/// Euler the forces are the linearized ones that produced the step's velocity change, and
+/// the positions those at the start of the step (a touching point moves ≪ 1 mm in a step).
 #[derive(Clone, Debug, Default)]
 pub struct ContactState {
     /// World force on each contact point (zero when not touching).
