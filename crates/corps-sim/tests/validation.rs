@@ -130,15 +130,7 @@ fn box_rests(settings: SimSettings) {
     assert!(drift < 1e-5, "drift {drift:.3e} m over 10 s");
 }
 
-#[test]
-fn a_box_rests_on_a_plane_with_its_weight_and_does_not_drift() {
-    box_rests(SimSettings::default());
-}
-
-#[test]
-fn implicit_euler_box_rests_on_a_plane_with_its_weight_and_does_not_drift() {
-    box_rests(implicit_stiff());
-}
+under_both_integrators!(box_rests: a_box_rests_on_a_plane_with_its_weight_and_does_not_drift, implicit_euler_box_rests_on_a_plane_with_its_weight_and_does_not_drift);
 
 /// A block on a plane inclined by `theta` about y, friction `mu`: returns its displacement
 /// along the slope over `seconds`, sampled each control period.
@@ -179,15 +171,7 @@ fn block_stays(settings: SimSettings) {
     assert!(slip < 1e-3, "slipped {slip:.3e} m in 5 s");
 }
 
-#[test]
-fn a_block_below_the_friction_angle_stays() {
-    block_stays(SimSettings::default());
-}
-
-#[test]
-fn implicit_euler_block_below_the_friction_angle_stays() {
-    block_stays(implicit_stiff());
-}
+under_both_integrators!(block_stays: a_block_below_the_friction_angle_stays, implicit_euler_block_below_the_friction_angle_stays);
 
 fn block_slides(settings: SimSettings) {
     let (theta, mu, g) = (35f64.to_radians(), 0.5, 9.81);
@@ -202,15 +186,7 @@ fn block_slides(settings: SimSettings) {
     );
 }
 
-#[test]
-fn a_block_above_the_friction_angle_slides_with_the_coulomb_acceleration() {
-    block_slides(SimSettings::default());
-}
-
-#[test]
-fn implicit_euler_block_above_the_friction_angle_slides_with_the_coulomb_acceleration() {
-    block_slides(implicit_stiff());
-}
+under_both_integrators!(block_slides: a_block_above_the_friction_angle_slides_with_the_coulomb_acceleration, implicit_euler_block_above_the_friction_angle_slides_with_the_coulomb_acceleration);
 
 fn fit_acceleration(pts: &[(f64, f64)]) -> f64 {
     let mut ata = nalgebra::Matrix3::<f64>::zeros();
@@ -259,15 +235,7 @@ fn dropped_box_settles(settings: SimSettings) {
     );
 }
 
-#[test]
-fn a_dropped_box_settles_without_gaining_energy() {
-    dropped_box_settles(SimSettings::default());
-}
-
-#[test]
-fn implicit_euler_dropped_box_settles_without_gaining_energy() {
-    dropped_box_settles(implicit_stiff());
-}
+under_both_integrators!(dropped_box_settles: a_dropped_box_settles_without_gaining_energy, implicit_euler_dropped_box_settles_without_gaining_energy);
 
 fn sole_positions(s: &Simulator) -> [Vector3<f64>; 2] {
     let m = s.model();
@@ -306,15 +274,7 @@ fn talos_stands(settings: SimSettings) {
     );
 }
 
-#[test]
-fn talos_stands_under_the_pd_hold() {
-    talos_stands(SimSettings::default());
-}
-
-#[test]
-fn implicit_euler_talos_stands_under_the_pd_hold() {
-    talos_stands(implicit_stiff());
-}
+under_both_integrators!(talos_stands: talos_stands_under_the_pd_hold, implicit_euler_talos_stands_under_the_pd_hold);
 
 fn push_moves_robot(settings: SimSettings) {
     let (mut s, q) = standing_talos_with(settings);
@@ -340,12 +300,4 @@ fn push_moves_robot(settings: SimSettings) {
     );
 }
 
-#[test]
-fn a_push_moves_the_standing_robot_in_the_push_direction() {
-    push_moves_robot(SimSettings::default());
-}
-
-#[test]
-fn implicit_euler_push_moves_the_standing_robot_in_the_push_direction() {
-    push_moves_robot(implicit_stiff());
-}
+under_both_integrators!(push_moves_robot: a_push_moves_the_standing_robot_in_the_push_direction, implicit_euler_push_moves_the_standing_robot_in_the_push_direction);

@@ -98,3 +98,22 @@ pub fn implicit_stiff() -> SimSettings {
     s.contact.tangential_stiffness = 4e8;
     s
 }
+
+/// One test per integrator for a check taking the simulator settings: RK4 on the default
+/// contact (`$rk4`) and implicit Euler on the walks' stiff contact (`$implicit`).
+#[allow(unused_macros)]
+macro_rules! under_both_integrators {
+    ($check:ident: $rk4:ident, $implicit:ident) => {
+        #[test]
+        fn $rk4() {
+            $check(SimSettings::default());
+        }
+
+        #[test]
+        fn $implicit() {
+            $check(implicit_stiff());
+        }
+    };
+}
+#[allow(unused_imports)]
+pub(crate) use under_both_integrators;
