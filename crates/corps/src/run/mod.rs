@@ -25,7 +25,6 @@ mod gait;
 mod metrics;
 pub mod motion;
 mod plots;
-mod touchdown;
 pub mod walk;
 
 pub use controller::{ControllerKind, WholeBodyController};
@@ -54,11 +53,6 @@ use std::time::Instant;
 pub(crate) const GRAVITY: f64 = 9.81;
 /// Vertical force (N) below which the ZMP is not defined (the robot is in the air).
 const ZMP_MIN_FZ: f64 = 10.0;
-
-/// A landing foot whose sole carries this normal force (N) is in contact ([`touchdown`]).
-const TOUCHDOWN_FORCE: f64 = 50.0;
-/// ... if it is within this time (s) of the plan's touch-down.
-const TOUCHDOWN_WINDOW: f64 = 0.1;
 
 /// `[controller]`.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -364,12 +358,6 @@ pub fn run_scenario(
         [ankle("leg_left_5_joint")?, ankle("leg_left_6_joint")?],
         [ankle("leg_right_5_joint")?, ankle("leg_right_6_joint")?],
     ];
-    let mut touchdown = match &scenario.motion {
-        MotionSection::Walk(_) | MotionSection::Velocity(_) => Some(
-            touchdown::TouchdownDetector::new(TOUCHDOWN_FORCE, TOUCHDOWN_WINDOW, &plan),
-        ),
-        _ => None,
-    };
     let mut tick_us = Vec::with_capacity(ticks);
     let bar = if progress {
         crate::sim_cmd::progress_bar(ticks)
@@ -383,9 +371,6 @@ pub fn run_scenario(
         // What the sensors tell: CoM (base estimator), soles, contact wrenches (F/T).
         let (com, placements) = com_and_soles(&model, &mut data, &sim, &soles, &zeros)?;
         let contact = measure_contacts(&sim, &foot_joints, &placements);
-        if let Some(d) = touchdown.as_mut() {
-            d.apply(&plan, t, contact.foot_fz, &mut targets);
-        }
         let measured = Measured {
             com,
             com_velocity: data.vcom,
