@@ -25,11 +25,17 @@ BIN = ROOT / "target" / "release" / "corps"
 DEFAULT = ["scenarios/walk/tsid_torque_20cm.toml"]
 
 
-def rk4_variant(path: pathlib.Path, out_dir: pathlib.Path) -> pathlib.Path:
-    """The scenario with its [sim] integrator replaced by 4 RK4 substeps."""
+def rk4_variant(path: pathlib.Path) -> pathlib.Path:
+    """The scenario with its implicit Euler replaced by 4 RK4 substeps, written beside it (its
+    relative paths, gains files and CSVs, keep working); the caller deletes it."""
     text = path.read_text()
-    text = re.sub(r'(?m)^integrator = "implicit_euler"$', 'integrator = "rk4"\nsubsteps = 4', text)
-    out = out_dir / f"{path.stem}_rk4x4.toml"
+    if re.search(r"(?m)^substeps\s*=", text):
+        raise SystemExit(f"{path}: already sets substeps; compare it by hand")
+    text, n = re.subn(r'(?m)^integrator = "implicit_euler"$',
+                      'integrator = "rk4"\nsubsteps = 4', text)
+    if n != 1:
+        raise SystemExit(f"{path}: no `integrator = \"implicit_euler\"` line to compare against")
+    out = path.with_name(f".{path.stem}_rk4x4.toml")
     out.write_text(text)
     return out
 
@@ -59,12 +65,15 @@ def main() -> None:
         print("|---|---:|---:|---:|---:|---:|")
         for name in args.scenarios:
             path = ROOT / name
-            anchor = rk4_variant(path, tmp)
+            anchor = rk4_variant(path)
             sim_s = simulated_seconds(path)
             ours, theirs = [], []
-            for _ in range(args.rounds):
-                ours.append(wall(path, tmp / "ours"))
-                theirs.append(wall(anchor, tmp / "anchor"))
+            try:
+                for _ in range(args.rounds):
+                    ours.append(wall(path, tmp / "ours"))
+                    theirs.append(wall(anchor, tmp / "anchor"))
+            finally:
+                anchor.unlink()
             mo, ma = statistics.median(ours), statistics.median(theirs)
             print(f"| {path.stem} | {sim_s:.1f} s | {mo:.2f} s ({min(ours):.2f}–{max(ours):.2f}) "
                   f"| {sim_s / mo:.1f}× | {ma:.2f} s | {ma / mo:.1f}× |", flush=True)

@@ -25,8 +25,8 @@ pub(crate) struct PointVisit<'a> {
 }
 
 /// The shapes' sample points against the terrain, at body placements `o_m_i` and world
-/// twists `ov`. Every point of a shape near a surface is visited; with `visit_clear`, so are
-/// the points of shapes far from every surface (with no force), for callers that record.
+/// twists `ov`. Every point that may touch a surface is visited with its force (or none);
+/// with `visit_clear`, so is every other point (with no force), for callers that record.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn contact_pass(
     terrain: &Terrain,

@@ -4,7 +4,8 @@
 //! (any [`corps_model::Model`]) moves under joint commands, gravity, compliant contact with a
 //! terrain of planes and boxes, and pushes; sensors read it with seeded noise.
 //!
-//! - dynamics: ABA with the contact and push wrenches as external forces;
+//! - dynamics: ABA with the contact and push wrenches as external forces (RK4, semi-implicit
+//!   Euler), or CRBA with them linearized (implicit Euler);
 //! - integration on the configuration manifold: RK4 (default), semi-implicit Euler, or
 //!   linearly implicit Euler in the contact springs and servos (one sparse factorization per
 //!   step, stable at 1 ms on the stiff contact a torque controller needs); 1 ms control

@@ -1,5 +1,6 @@
-//! The simulator: floating-base forward dynamics (ABA with contact and push wrenches),
-//! integrated on the configuration manifold with RK4 (default) or semi-implicit Euler.
+//! The simulator: floating-base forward dynamics with contact and push wrenches, integrated
+//! on the configuration manifold with RK4 (default) or semi-implicit Euler (both on ABA), or
+//! with linearly implicit Euler (`simulator/implicit.rs`, on CRBA and a sparse factorization).
 
 use crate::actuation::{Actuators, Command, ServoGains};
 use crate::contact::{Anchor, ContactParams};
@@ -106,7 +107,8 @@ impl SimSettings {
 
 /// Contact forces at the end of the last step, for sensors, logs and tests. Under implicit
 /// Euler the forces are the linearized ones that produced the step's velocity change, and
-/// the positions those at the start of the step (a touching point moves ≪ 1 mm in a step).
+/// the positions those at the start of the step (a touching point moves ≪ 1 mm in a step);
+/// neither the normal sign nor the friction cone is enforced on those recorded forces.
 #[derive(Clone, Debug, Default)]
 pub struct ContactState {
     /// World force on each contact point (zero when not touching).
@@ -281,7 +283,8 @@ impl Simulator {
     pub fn applied_torques(&self) -> &DVector<f64> {
         &self.tau
     }
-    /// Generalized acceleration at the current state under the last command.
+    /// Generalized acceleration at the current state under the last command (under implicit
+    /// Euler, the mean over the last step, Δv / h).
     pub fn acceleration(&self) -> &DVector<f64> {
         &self.acceleration
     }

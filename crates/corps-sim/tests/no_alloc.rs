@@ -9,7 +9,11 @@ use corps_testkit::{allocations, CountingAllocator};
 #[global_allocator]
 static GLOBAL: CountingAllocator = CountingAllocator;
 
-under_both_integrators!(steps_without_allocating: stepping_and_reading_sensors_do_not_allocate, implicit_euler_steps_do_not_allocate);
+under_both_integrators!(
+    steps_without_allocating:
+    stepping_and_reading_sensors_do_not_allocate,
+    implicit_euler_steps_do_not_allocate
+);
 
 fn steps_without_allocating(settings: SimSettings) {
     let (mut sim, q) = standing_talos_with(settings);

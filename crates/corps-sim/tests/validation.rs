@@ -130,7 +130,11 @@ fn box_rests(settings: SimSettings) {
     assert!(drift < 1e-5, "drift {drift:.3e} m over 10 s");
 }
 
-under_both_integrators!(box_rests: a_box_rests_on_a_plane_with_its_weight_and_does_not_drift, implicit_euler_box_rests_on_a_plane_with_its_weight_and_does_not_drift);
+under_both_integrators!(
+    box_rests:
+    a_box_rests_on_a_plane_with_its_weight_and_does_not_drift,
+    implicit_euler_box_rests_on_a_plane_with_its_weight_and_does_not_drift
+);
 
 /// A block on a plane inclined by `theta` about y, friction `mu`: returns its displacement
 /// along the slope over `seconds`, sampled each control period.
@@ -171,7 +175,11 @@ fn block_stays(settings: SimSettings) {
     assert!(slip < 1e-3, "slipped {slip:.3e} m in 5 s");
 }
 
-under_both_integrators!(block_stays: a_block_below_the_friction_angle_stays, implicit_euler_block_below_the_friction_angle_stays);
+under_both_integrators!(
+    block_stays:
+    a_block_below_the_friction_angle_stays,
+    implicit_euler_block_below_the_friction_angle_stays
+);
 
 fn block_slides(settings: SimSettings) {
     let (theta, mu, g) = (35f64.to_radians(), 0.5, 9.81);
@@ -186,7 +194,11 @@ fn block_slides(settings: SimSettings) {
     );
 }
 
-under_both_integrators!(block_slides: a_block_above_the_friction_angle_slides_with_the_coulomb_acceleration, implicit_euler_block_above_the_friction_angle_slides_with_the_coulomb_acceleration);
+under_both_integrators!(
+    block_slides:
+    a_block_above_the_friction_angle_slides_with_the_coulomb_acceleration,
+    implicit_euler_block_above_the_friction_angle_slides_with_the_coulomb_acceleration
+);
 
 fn fit_acceleration(pts: &[(f64, f64)]) -> f64 {
     let mut ata = nalgebra::Matrix3::<f64>::zeros();
@@ -235,7 +247,11 @@ fn dropped_box_settles(settings: SimSettings) {
     );
 }
 
-under_both_integrators!(dropped_box_settles: a_dropped_box_settles_without_gaining_energy, implicit_euler_dropped_box_settles_without_gaining_energy);
+under_both_integrators!(
+    dropped_box_settles:
+    a_dropped_box_settles_without_gaining_energy,
+    implicit_euler_dropped_box_settles_without_gaining_energy
+);
 
 fn sole_positions(s: &Simulator) -> [Vector3<f64>; 2] {
     let m = s.model();
@@ -274,7 +290,11 @@ fn talos_stands(settings: SimSettings) {
     );
 }
 
-under_both_integrators!(talos_stands: talos_stands_under_the_pd_hold, implicit_euler_talos_stands_under_the_pd_hold);
+under_both_integrators!(
+    talos_stands:
+    talos_stands_under_the_pd_hold,
+    implicit_euler_talos_stands_under_the_pd_hold
+);
 
 fn push_moves_robot(settings: SimSettings) {
     let (mut s, q) = standing_talos_with(settings);
@@ -300,4 +320,8 @@ fn push_moves_robot(settings: SimSettings) {
     );
 }
 
-under_both_integrators!(push_moves_robot: a_push_moves_the_standing_robot_in_the_push_direction, implicit_euler_push_moves_the_standing_robot_in_the_push_direction);
+under_both_integrators!(
+    push_moves_robot:
+    a_push_moves_the_standing_robot_in_the_push_direction,
+    implicit_euler_push_moves_the_standing_robot_in_the_push_direction
+);

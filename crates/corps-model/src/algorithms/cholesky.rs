@@ -38,7 +38,8 @@ pub fn factorize_branch_sparse(model: &Model, h: &mut DMatrix<f64>) {
     }
 }
 
-/// Solves M x = b in place with the factorization in `data.ltdl`.
+/// Solves M x = b in place with the factorization in `ltdl` (from [`factorize_mass_matrix`],
+/// or of any matrix [`factorize_branch_sparse`] takes).
 pub fn solve_mass_matrix(model: &Model, ltdl: &DMatrix<f64>, b: &mut [f64]) {
     let n = model.nv;
     let h = ltdl.as_slice(); // column-major: L[k, i] = h[i * n + k]

@@ -14,8 +14,9 @@
 //! damping, here applied to the contact stiffness as well. Every added term lies inside the
 //! branch sparsity of M (each body's Jacobian spans its chain of ancestors), so the sparse
 //! LᵀDL factorization of M serves. Without contact and servo it is semi-implicit Euler. The
-//! forces recorded for sensors are the linearized ones at the end of the step, those that
-//! produced Δv.
+//! contact forces and servo torques recorded for the sensors are the linearized ones at the
+//! end of the step, those that produced Δv (a lifting point's may be slightly adhesive for
+//! that one step, as the linearization does not clamp).
 
 use super::Simulator;
 use crate::actuation::{first_actuated, Command};
@@ -37,9 +38,10 @@ struct ActivePoint {
     position: Vector3<f64>,
     /// f₀ − h K v_p: the force if the point's velocity did not change.
     force: Vector3<f64>,
-    /// How the force falls with the change of the point's velocity, D + h K, as its normal
-    /// and tangential parts.
+    /// Surface normal at the point.
     normal: Vector3<f64>,
+    /// How the force falls with the change of the point's velocity, D + h K, along the
+    /// normal and in the tangent plane.
     normal_gain: f64,
     tangential_gain: f64,
 }
@@ -290,6 +292,14 @@ impl Simulator {
             self.acceleration[k] = dv[k] / h;
             self.v[k] += dv[k];
             scratch.dq[k] = h * self.v[k];
+        }
+        // The servo torques that produced Δv, τ₀ − k_p h v⁺ − k_d Δv, as the applied torques
+        // (the sensors and the work read them), within the effort limits.
+        let servos = w.servo_stiffness.iter().zip(&w.servo_damping);
+        for (k, (kp, kd)) in (first..model.nv).zip(servos) {
+            let lim = model.effort_limit[k];
+            let t = self.tau[k] - kp * h * self.v[k] - kd * dv[k];
+            self.tau[k] = t.clamp(-lim, lim);
         }
         let _ = integrate_to(
             model,
