@@ -52,6 +52,12 @@ pub fn solve_mass_matrix(model: &Model, ltdl: &DMatrix<f64>, b: &mut [f64]) {
     for (k, bk) in b.iter_mut().enumerate() {
         *bk /= h[k * n + k];
     }
+    solve_unit_lower(model, h, b);
+}
+
+/// `b ← L⁻¹ b` for the unit lower-triangular `L` of a column-major LᵀDL factor `h`.
+fn solve_unit_lower(model: &Model, h: &[f64], b: &mut [f64]) {
+    let n = model.nv;
     for k in 0..n {
         let mut acc = b[k];
         for &ii in model.dof_ancestors(k) {
@@ -72,7 +78,6 @@ pub fn compute_minverse<'d>(
     crba(model, data, q)?;
     factorize_mass_matrix(model, data);
     let n = model.nv;
-    let par = &model.dof_parent;
     let h = data.ltdl.as_slice(); // column-major: L[k, i] = h[i * n + k]
     for (k, d) in data.tmp_nv.iter_mut().enumerate() {
         *d = 1.0 / h[k * n + k];
@@ -81,28 +86,16 @@ pub fn compute_minverse<'d>(
     for (c, col) in data.minv.as_mut_slice().chunks_exact_mut(n).enumerate() {
         col.fill(0.0);
         col[c] = 1.0;
-        let mut k = Some(c);
-        while let Some(kk) = k {
+        for kk in std::iter::once(c).chain(model.dof_ancestors(c).iter().copied()) {
             let bk = col[kk];
-            let mut i = par[kk];
-            while let Some(ii) = i {
+            for &ii in model.dof_ancestors(kk) {
                 col[ii] -= h[ii * n + kk] * bk;
-                i = par[ii];
             }
-            k = par[kk];
         }
         for (x, d) in col.iter_mut().zip(dinv) {
             *x *= d;
         }
-        for k in 0..n {
-            let mut acc = col[k];
-            let mut i = par[k];
-            while let Some(ii) = i {
-                acc -= h[ii * n + k] * col[ii];
-                i = par[ii];
-            }
-            col[k] = acc;
-        }
+        solve_unit_lower(model, h, col);
     }
     Ok(&data.minv)
 }

@@ -80,12 +80,10 @@ pub fn coriolis_matrix<'d>(
             // Row r, columns of the strict ancestors.
             let g1 = m6v(&y, &jr.to_vector());
             let g2 = b.transpose() * jr.to_vector();
-            let mut anc = model.dof_parent[start];
-            while let Some(c) = anc {
+            for &c in model.dof_ancestors(start) {
                 let dj = col_motion(&data.dj, c).to_vector();
                 let jc = col_motion(&data.j, c).to_vector();
                 data.c[(r, c)] = g1.dot(&dj) + g2.dot(&jc);
-                anc = model.dof_parent[c];
             }
         }
         if let Some(p) = j.parent {
