@@ -14,6 +14,7 @@
 //! swing foot interpolates to that tilt, and the ZMP reference stays the support sole's centre
 //! (its projection on the horizontal plane, at the sole's height).
 
+use crate::min_jerk::min_jerk;
 use crate::pose::{FootPose, FootVelocity};
 use crate::reference::ContactPhase;
 use crate::swing_foot::{SwingTrajectory, DEFAULT_APEX_HEIGHT};
@@ -137,21 +138,6 @@ pub struct FootstepPlan {
     swing_height: f64,
     /// Each step's swing, built once (sampling runs every tick over the preview window).
     swings: Vec<SwingTrajectory>,
-}
-
-/// `a → b` by the min-jerk polynomial `s(λ) = 10λ³ − 15λ⁴ + 6λ⁵` at `λ ∈ [0, 1]` of a
-/// transition of `duration` s: value, rate, acceleration.
-fn min_jerk(a: f64, b: f64, lam: f64, duration: f64) -> [f64; 3] {
-    let l = lam.clamp(0.0, 1.0);
-    let d = b - a;
-    let s = l * l * l * (10.0 - 15.0 * l + 6.0 * l * l);
-    let ds = 30.0 * l * l * (1.0 - l) * (1.0 - l);
-    let dds = 60.0 * l * (1.0 - l) * (1.0 - 2.0 * l);
-    [
-        a + d * s,
-        d * ds / duration,
-        d * dds / (duration * duration),
-    ]
 }
 
 fn mid(a: &FootPose, b: &FootPose) -> Vector3<f64> {
@@ -445,10 +431,15 @@ impl FootstepPlan {
     /// The ZMP reference and its rate at time `t`, without the feet (what a preview window
     /// samples hundreds of times per tick). [`FootstepPlan::sample`] gives the same values.
     pub fn zmp_at(&self, t: f64) -> (Vector3<f64>, Vector3<f64>) {
+        self.zmp_in(self.locate(t))
+    }
+
+    /// The ZMP reference and its rate at a located time.
+    fn zmp_in(&self, phase: PlanPhase) -> (Vector3<f64>, Vector3<f64>) {
         let tm = &self.timing;
         let still = Vector3::zeros();
         let initial_mid = mid(&self.initial_left, &self.initial_right);
-        match self.locate(t) {
+        match phase {
             PlanPhase::Standing => (initial_mid, still),
             PlanPhase::Initial { fraction } => {
                 let b = pos(&self.support_before(0));
@@ -489,7 +480,8 @@ impl FootstepPlan {
     /// [`FootstepPlan::duration`]).
     pub fn sample(&self, t: f64) -> PlanSample {
         let still = FootVelocity::default();
-        let (zmp, zmp_vel) = self.zmp_at(t);
+        let phase = self.locate(t);
+        let (zmp, zmp_vel) = self.zmp_in(phase);
         let mut out = PlanSample {
             phase: ContactPhase::Double,
             zmp,
@@ -499,7 +491,7 @@ impl FootstepPlan {
             left_vel: still,
             right_vel: still,
         };
-        match self.locate(t) {
+        match phase {
             PlanPhase::Standing | PlanPhase::Initial { .. } => {}
             PlanPhase::Single { step, local } => {
                 let (l, r) = self.feet_before(step);

@@ -54,6 +54,7 @@ pub mod dynamic_filter;
 mod error;
 pub mod footsteps;
 pub mod lipm;
+mod min_jerk;
 pub mod mpc;
 pub mod pose;
 pub mod preview_control;

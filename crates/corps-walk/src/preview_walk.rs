@@ -13,6 +13,7 @@
 //! climbs with the support foot; the preview control itself keeps the LIPM's constant height.
 
 use crate::footsteps::FootstepPlan;
+use crate::min_jerk::min_jerk;
 use crate::preview_control::{PreviewAxis, PreviewController, PreviewParams};
 use crate::reference::WalkingReference;
 use crate::WalkError;
@@ -134,9 +135,10 @@ impl PreviewWalk {
         match self.start {
             Some((x0, y0)) if tp < 0.0 => {
                 let blend = START_BLEND * self.lead_time();
-                let lam = ((tp + blend) / blend).clamp(0.0, 1.0);
-                let s = lam * lam * lam * (10.0 - 15.0 * lam + 6.0 * lam * lam);
-                (x0 + (z.x - x0) * s - ox, y0 + (z.y - y0) * s - oy)
+                let lam = (tp + blend) / blend;
+                let x = min_jerk(x0, z.x, lam, blend)[0];
+                let y = min_jerk(y0, z.y, lam, blend)[0];
+                (x - ox, y - oy)
             }
             _ => (z.x - ox, z.y - oy),
         }

@@ -11,6 +11,7 @@
 //! same rest-to-rest quintics, so the foot reaches the tilt of its landing pose with zero
 //! angular velocity and acceleration.
 
+use crate::min_jerk::min_jerk;
 use crate::pose::{angle_difference, wrap_angle, FootPose, FootVelocity};
 
 /// Default apex height of the swing foot (m): seed 002 §4.4 / §5 row 11.
@@ -91,8 +92,7 @@ fn bump(s: f64) -> (f64, f64, f64) {
 /// Height of the swing at normalized time `s`: the quintic blend from `z0` to `z1` plus the
 /// bump of amplitude `apex`.
 fn swing_height(z0: f64, z1: f64, apex: f64, s: f64) -> f64 {
-    let blend = s * s * s * (10.0 - 15.0 * s + 6.0 * s * s);
-    z0 + (z1 - z0) * blend + apex * bump(s).0
+    min_jerk(z0, z1, s, 1.0)[0] + apex * bump(s).0
 }
 
 /// The normalized window `[a, b]` of the horizontal motion: `a` the first `s` at which the
@@ -255,28 +255,20 @@ mod tests {
         let risers = [(0.15, 0.2), (0.45, 0.3)];
         let up = SwingTrajectory::new(&lo, &hi, 0.9, DEFAULT_APEX_HEIGHT);
         let down = SwingTrajectory::new(&hi, &lo, 0.9, DEFAULT_APEX_HEIGHT);
+        // Going down (backwards here), the sole is over the upper tread while its trailing toe
+        // is past the nose at x: the same bound as the leading toe going up.
         for k in 0..=900 {
             let t = k as f64 * 1e-3;
-            let (p, _) = up.sample(t);
-            for (x, top) in risers {
-                if p.x + toe > x {
-                    assert!(
-                        p.z >= top - 1e-9,
-                        "up: toe past the riser at {x} with the sole at {}",
-                        p.z
-                    );
-                }
-            }
-            let (p, _) = down.sample(t);
-            for (x, top) in risers {
-                // Going down (backwards here), the sole is over the upper tread while its
-                // trailing toe is past the nose at x.
-                if p.x + toe > x {
-                    assert!(
-                        p.z >= top - 1e-9,
-                        "down: heel over the nose at {x} with the sole at {}",
-                        p.z
-                    );
+            for (name, swing) in [("up", &up), ("down", &down)] {
+                let (p, _) = swing.sample(t);
+                for (x, top) in risers {
+                    if p.x + toe > x {
+                        assert!(
+                            p.z >= top - 1e-9,
+                            "{name}: toe past the riser at {x} with the sole at {}",
+                            p.z
+                        );
+                    }
                 }
             }
         }
