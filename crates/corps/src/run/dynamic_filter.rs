@@ -149,11 +149,15 @@ pub fn filter_walk(
     let before = multibody_zmp_error(model, q0, posture, plan, ticks, dt, gravity)?;
     let mut filter = DynamicFilter::new(&params).context("dynamic filter")?;
     let n = filter.horizon();
-    let window = |e: &[f64], k: usize, out: &mut Vec<f64>| {
-        out.clear();
-        out.extend((k..=k + n).map(|j| e[j.min(ticks - 1)]));
+    // The error held at its last value past the end, so that every tick's window is a slice.
+    let padded = |e: &[f64]| {
+        let last = e.last().copied().unwrap_or(0.0);
+        let mut p = Vec::with_capacity(e.len() + n);
+        p.extend_from_slice(e);
+        p.resize(e.len() + n, last);
+        p
     };
-    let (mut wx, mut wy) = (Vec::with_capacity(n + 1), Vec::with_capacity(n + 1));
+    let (ex, ey) = (padded(&before.x), padded(&before.y));
     let mut dx = Vec::with_capacity(ticks);
     let mut dy = Vec::with_capacity(ticks);
     for k in 0..ticks {
@@ -162,9 +166,9 @@ pub fn filter_walk(
         let (cx, cy) = filter.correction();
         dx.push(cx);
         dy.push(cy);
-        window(&before.x, k, &mut wx);
-        window(&before.y, k, &mut wy);
-        filter.step(&wx, &wy).context("dynamic filter")?;
+        filter
+            .step(&ex[k..=k + n], &ey[k..=k + n])
+            .context("dynamic filter")?;
     }
     let max_correction = [&dx, &dy].map(|d| d.iter().fold(0.0f64, |m, c| m.max(c[0].abs())));
     if let Some(walk) = plan.walk_mut() {
