@@ -124,6 +124,15 @@ fn unknown_names_and_bad_vectors() {
         }
     );
     assert!(crba(&model, &mut data, &[f64::INFINITY; 8]).is_err());
+    let mut wrong = nalgebra::DMatrix::<f64>::identity(6, 7);
+    assert_eq!(
+        factorize_branch_sparse(&model, &mut wrong),
+        Err(ModelError::Dimension {
+            what: "matrix to factorize",
+            got: 42,
+            expected: 49
+        })
+    );
 }
 
 #[test]

@@ -12,16 +12,24 @@ use nalgebra::{DMatrix, DVector};
 /// Factorizes `data.m` (from [`crba`]) into `data.ltdl`.
 pub fn factorize_mass_matrix(model: &Model, data: &mut Data) {
     data.ltdl.copy_from(&data.m);
-    factorize_branch_sparse(model, &mut data.ltdl);
+    // `data` was sized for this model: nv × nv.
+    let _ = factorize_branch_sparse(model, &mut data.ltdl);
 }
 
 /// Factorizes in place a symmetric positive-definite matrix whose non-zeros lie within M's
 /// branch pattern (entry (i, j) only where one dof is an ancestor of the other): M itself, or
 /// M plus terms `Jᵀ K J` of bodies' Jacobians and a diagonal, as an implicit integrator
 /// forms. On return the lower triangle holds L (unit diagonal implied) and the diagonal D,
-/// for [`solve_mass_matrix`].
-pub fn factorize_branch_sparse(model: &Model, h: &mut DMatrix<f64>) {
+/// for [`solve_mass_matrix`]. A matrix that is not `nv × nv` is an error.
+pub fn factorize_branch_sparse(model: &Model, h: &mut DMatrix<f64>) -> Result<()> {
     let n = model.nv;
+    if h.nrows() != n || h.ncols() != n {
+        return Err(crate::error::ModelError::Dimension {
+            what: "matrix to factorize",
+            got: h.len(),
+            expected: n * n,
+        });
+    }
     // Column-major: entry (r, c) at c * n + r. The ancestors of the c-th ancestor of k are
     // k's chain from c on, so every inner loop runs over a slice.
     let h = h.as_mut_slice();
@@ -36,6 +44,7 @@ pub fn factorize_branch_sparse(model: &Model, h: &mut DMatrix<f64>) {
             h[ii * n + k] = a;
         }
     }
+    Ok(())
 }
 
 /// Solves M x = b in place with the factorization in `ltdl` (from [`factorize_mass_matrix`],

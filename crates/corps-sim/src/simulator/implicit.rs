@@ -263,7 +263,7 @@ impl Simulator {
                 }
             }
         }
-        factorize_branch_sparse(model, a);
+        let _ = factorize_branch_sparse(model, a); // data.ltdl is nv × nv
         solve_mass_matrix(model, a, w.rhs.as_mut_slice());
         let dv = &w.rhs;
 
