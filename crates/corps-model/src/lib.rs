@@ -42,8 +42,8 @@ pub mod spatial;
 pub use algorithms::aba::{aba, aba_with_external_forces};
 pub use algorithms::all_terms::compute_all_terms;
 pub use algorithms::centroidal::{
-    center_of_mass, centroidal_momentum_drift, com_and_momentum_drifts, compute_centroidal_map,
-    compute_centroidal_momentum, jacobian_center_of_mass,
+    center_of_mass, centroidal_momentum_drift, com_and_momentum_drifts, com_at_placements,
+    compute_centroidal_map, compute_centroidal_momentum, jacobian_center_of_mass,
 };
 pub use algorithms::cholesky::{
     compute_minverse, factorize_branch_sparse, factorize_mass_matrix, forward_dynamics_crba,

@@ -325,8 +325,20 @@ fn centroidal_quantities_are_consistent() {
                 compute_centroidal_momentum(&model, &mut data, q.as_slice(), v.as_slice()).unwrap();
             let jcom = data.jcom.clone();
             let ag = data.ag.clone();
+            let com_composite = data.com;
             center_of_mass(&model, &mut data, q.as_slice(), v.as_slice(), a.as_slice()).unwrap();
             let (vcom, acom) = (data.vcom, data.acom);
+            // The CoM from the placements and world twists a kinematic pass leaves = the
+            // composite-inertia CoM and Jcom v.
+            for (i, (m, v)) in data.o_m_i.clone().iter().zip(data.v.clone()).enumerate() {
+                data.ov[i] = m.act_motion(&v);
+            }
+            let (c, vc) = com_at_placements(&model, &data);
+            let close = |what: &str, a: &[f64], b: &[f64]| {
+                assert_close(&format!("{name} {what} from placements"), a, b, 1e-12)
+            };
+            close("CoM", c.as_slice(), com_composite.as_slice());
+            close("CoM velocity", vc.as_slice(), vcom.as_slice());
             // Linear momentum = m ċ = m Jcom v.
             assert_close(
                 &format!("{name} Jcom v"),

@@ -296,6 +296,37 @@ under_both_integrators!(
     implicit_euler_talos_stands_under_the_pd_hold
 );
 
+/// The placements and world twists `Simulator::data` hands out (to sensors and metrics) are
+/// those of the current state, as a fresh kinematic pass computes them.
+fn kinematics_are_current(s: &Simulator) {
+    let model = s.model();
+    let mut fresh = corps_model::Data::new(model);
+    let zero = DVector::zeros(model.nv);
+    corps_model::forward_kinematics(
+        model,
+        &mut fresh,
+        s.q().as_slice(),
+        s.v().as_slice(),
+        zero.as_slice(),
+    )
+    .unwrap();
+    let data = s.data();
+    for i in 0..model.njoints() {
+        let (m, f) = (&data.o_m_i[i], &fresh.o_m_i[i]);
+        let ov = f.act_motion(&fresh.v[i]);
+        let err = [
+            (m.translation - f.translation).amax(),
+            (m.rotation - f.rotation).amax(),
+            (data.ov[i].linear - ov.linear).amax(),
+            (data.ov[i].angular - ov.angular).amax(),
+        ];
+        assert!(
+            err.iter().all(|e| *e < 1e-9),
+            "joint {i}: placement / twist off by {err:?}"
+        );
+    }
+}
+
 fn push_moves_robot(settings: SimSettings) {
     let (mut s, q) = standing_talos_with(settings);
     let model = s.model().clone();
@@ -311,6 +342,7 @@ fn push_moves_robot(settings: SimSettings) {
     })
     .unwrap();
     run(&mut s, &cmd, 0.3);
+    kinematics_are_current(&s);
     let dx = s.q()[0] - x0;
     let dy = s.q()[1];
     assert!(dx > 1e-3, "base moved {dx:.4} m along the push");

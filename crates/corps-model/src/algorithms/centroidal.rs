@@ -126,6 +126,23 @@ pub fn center_of_mass(
     Ok(data.com)
 }
 
+/// Centre of mass and its velocity from the placements and world twists already in
+/// `data.o_m_i` and `data.ov` (e.g. a simulator's end-of-step kinematics):
+/// c = Σ m_i ᵒc_i / m and ċ = Σ m_i (ᵒv_i + ᵒω_i × ᵒc_i) / m, with ᵒc_i = ᵒM_i c_i.
+/// No kinematic pass (no trigonometry); the caller vouches that both are current. Writes
+/// nothing.
+pub fn com_at_placements(model: &Model, data: &Data) -> (Vector3<f64>, Vector3<f64>) {
+    let (mut m, mut c, mut vc) = (0.0, Vector3::zeros(), Vector3::zeros());
+    for ((inertia, placement), twist) in model.inertias.iter().zip(&data.o_m_i).zip(&data.ov) {
+        let ci = placement.act_point(&inertia.lever);
+        m += inertia.mass;
+        c += ci * inertia.mass;
+        vc += twist.point_velocity(&ci) * inertia.mass;
+    }
+    let inv = if m > 0.0 { 1.0 / m } else { 0.0 };
+    (c * inv, vc * inv)
+}
+
 /// Both drifts a whole-body controller needs at q̈ = 0, from one kinematic pass: the CoM
 /// acceleration J̇com v (`data.acom`) and the centroidal momentum rate Ȧ_G v (`data.dag_v`,
 /// about `data.com`). Needs `data.com` at q (e.g. from [`crate::compute_all_terms`]); leaves

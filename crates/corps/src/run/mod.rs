@@ -40,10 +40,10 @@ use clap::Args;
 use controller::{behind_stabilizer, IkController, Measured, TsidController, TsidMode};
 use corps_control::stabilizer::{StabilizerOutput, Wrench};
 use corps_model::spatial::Se3;
-use corps_model::{center_of_mass, frame_placement, Data, Model};
+use corps_model::{com_at_placements, frame_placement, Model};
 use corps_sim::Simulator;
 use motion::MotionPlan;
-use nalgebra::{DVector, Vector3};
+use nalgebra::Vector3;
 use serde::Deserialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -311,9 +311,7 @@ pub fn run_scenario(
         model.frame_id(controller::TALOS_SOLES[1])?,
     ];
     let foot_joints = soles.map(|f| model.frames[f].parent_joint.unwrap_or(usize::MAX));
-    let mut data = Data::new(&model);
-    let zeros = DVector::zeros(model.nv);
-    let (com0, feet0) = com_and_soles(&model, &mut data, &sim, &soles, &zeros)?;
+    let (com0, _, feet0) = com_and_soles(&sim, &soles)?;
     let ticks = (scenario.duration / dt).round() as usize;
     let mut plan = MotionPlan::new(
         scenario.motion.clone(),
@@ -369,11 +367,11 @@ pub fn run_scenario(
         plan.sample(t, &mut targets);
         let (q, v) = (sim.q().as_slice(), sim.v().as_slice());
         // What the sensors tell: CoM (base estimator), soles, contact wrenches (F/T).
-        let (com, placements) = com_and_soles(&model, &mut data, &sim, &soles, &zeros)?;
+        let (com, com_velocity, placements) = com_and_soles(&sim, &soles)?;
         let contact = measure_contacts(&sim, &foot_joints, &placements);
         let measured = Measured {
             com,
-            com_velocity: data.vcom,
+            com_velocity,
             zmp: contact.zmp.map(|[x, y]| nalgebra::Vector2::new(x, y)),
             feet: placements.map(|p| isometry(&p)),
             foot_wrenches: contact.foot_wrenches,
@@ -472,21 +470,19 @@ pub fn run_scenario(
     })
 }
 
-/// The CoM (its velocity left in `data.vcom`) and the sole placements of the simulated robot.
+/// The CoM, its velocity and the sole placements of the simulated robot, from the
+/// kinematics the simulator keeps for its current state (no second kinematic pass).
 fn com_and_soles(
-    model: &Model,
-    data: &mut Data,
     sim: &Simulator,
     soles: &[usize; 2],
-    zero_acceleration: &DVector<f64>,
-) -> Result<(Vector3<f64>, [Se3; 2])> {
-    let (q, v) = (sim.q().as_slice(), sim.v().as_slice());
-    let com = center_of_mass(model, data, q, v, zero_acceleration.as_slice())?;
+) -> Result<(Vector3<f64>, Vector3<f64>, [Se3; 2])> {
+    let (model, data) = (sim.model(), sim.data());
+    let (com, com_velocity) = com_at_placements(model, data);
     let soles = [
-        frame_placement(model, sim.data(), soles[0])?,
-        frame_placement(model, sim.data(), soles[1])?,
+        frame_placement(model, data, soles[0])?,
+        frame_placement(model, data, soles[1])?,
     ];
-    Ok((com, soles))
+    Ok((com, com_velocity, soles))
 }
 
 /// Contact forces of one tick.
@@ -514,6 +510,10 @@ fn measure_contacts(sim: &Simulator, foot_joints: &[usize; 2], soles: &[Se3; 2])
     let mut world = [(Vector3::zeros(), Vector3::zeros()); 2];
     let mut other = 0.0;
     for ((f, p), cp) in c.point_forces.iter().zip(&c.point_positions).zip(points) {
+        // Most sampled points are clear of the ground: they add nothing to any sum.
+        if *f == Vector3::zeros() {
+            continue;
+        }
         fz += f.z;
         zf += p.z * f.z;
         match foot_joints.iter().position(|j| *j == cp.joint) {
