@@ -54,6 +54,10 @@ pub struct ActiveSetSolver {
     chol: Vec<f64>,
     /// `L` row-major (rows of `L` contiguous), for the solves with many right-hand sides.
     lt: Vec<f64>,
+    /// H's diagonal blocks (`block_start[j]..block_end[j]` holds j; `cholesky::diagonal_blocks`):
+    /// L, L⁻ᵀ and L⁻¹ Aᵀ are computed block by block.
+    block_start: Vec<usize>,
+    block_end: Vec<usize>,
     j0: Vec<f64>,
     jm: Vec<f64>,
     jlen: Vec<usize>,
@@ -138,6 +142,8 @@ impl ActiveSetSolver {
             ux: Vec::new(),
             chol: Vec::new(),
             lt: Vec::new(),
+            block_start: Vec::new(),
+            block_end: Vec::new(),
             j0: Vec::new(),
             jm: Vec::new(),
             jlen: Vec::new(),
@@ -200,6 +206,8 @@ impl ActiveSetSolver {
         self.ux = zeros(n);
         self.chol = zeros(n * n);
         self.lt = zeros(n * n);
+        self.block_start = vec![0; n];
+        self.block_end = vec![n; n];
         self.j0 = zeros(ld * n);
         self.jm = zeros(ld * n);
         self.jlen = vec![0; n];
@@ -344,7 +352,14 @@ impl ActiveSetSolver {
             self.eq_ok = false;
             self.final_ok = false;
             self.chol.copy_from_slice(&self.h);
-            if let Err(column) = cholesky::factor_in_place::<F>(&mut self.chol, n, &mut self.lt) {
+            cholesky::diagonal_blocks(&self.h, n, &mut self.block_start, &mut self.block_end);
+            if let Err(column) = cholesky::factor_in_place::<F>(
+                &mut self.chol,
+                n,
+                &mut self.lt,
+                &self.block_start,
+                &self.block_end,
+            ) {
                 self.h_ok = false;
                 return Err(QpError::NotPositiveDefinite { column });
             }
@@ -501,7 +516,7 @@ impl ActiveSetSolver {
     fn init_j0<const F: bool>(&mut self) {
         let (n, ld) = (self.n, self.ld);
         if !self.j0_ok {
-            cholesky::inverse_transpose::<F>(&self.lt, n, &mut self.j0, ld);
+            cholesky::inverse_transpose::<F>(&self.lt, n, &mut self.j0, ld, &self.block_start);
             self.j0_ok = true;
         }
         self.jm.copy_from_slice(&self.j0);
@@ -519,12 +534,21 @@ impl ActiveSetSolver {
         let (n, m) = (self.n, self.ne);
         // Row i of D (column i of Dᵀ, contiguous) is (column i of A − Σ_{j<i} L_ij D_j) / L_ii:
         // forward substitution for all m right-hand sides at once, one register-blocked
-        // matrix–vector product per row.
+        // matrix–vector product per row over the rows j of i's block of L.
         for i in 0..n {
+            let b0 = self.block_start[i];
             let (done, rest) = self.dt.split_at_mut(i * m);
             let row = &mut rest[..m];
             row.copy_from_slice(&self.a[i * m..(i + 1) * m]);
-            gemv::<F>(-1.0, done, m, &self.lt[i * n..i * n + i], row);
+            if i > b0 {
+                gemv::<F>(
+                    -1.0,
+                    &done[b0 * m..],
+                    m,
+                    &self.lt[i * n + b0..i * n + i],
+                    row,
+                );
+            }
             let inv = 1.0 / self.lt[i * n + i];
             for v in row.iter_mut() {
                 *v *= inv;
