@@ -59,7 +59,9 @@ pub use algorithms::jacobians::{
 };
 pub use algorithms::kinematics::{forward_kinematics, forward_kinematics_placements};
 pub use algorithms::operational_space::frame_operational_space_inertia;
-pub use algorithms::rnea::{generalized_gravity, nonlinear_effects, rnea};
+pub use algorithms::rnea::{
+    generalized_gravity, nonlinear_effects, nonlinear_effects_at_placements, rnea,
+};
 pub use configuration::{
     difference, difference_to, integrate, integrate_to, interpolate, neutral, normalize,
     random_configuration,

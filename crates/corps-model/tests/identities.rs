@@ -615,6 +615,24 @@ fn aba_world_accelerations_match_forward_kinematics() {
     }
 }
 
+/// h from the placements a CRBA pass left equals h computed from q, bit for bit (the same
+/// placements enter the same recursion).
+#[test]
+fn nonlinear_effects_at_placements_match_the_full_pass() {
+    for (name, model) in robots() {
+        let (mut a, mut b) = (Data::new(&model), Data::new(&model));
+        for s in 0..3 {
+            let (q, v, ..) = random_state(&model, 20 + s);
+            let full = nonlinear_effects(&model, &mut a, q.as_slice(), v.as_slice())
+                .unwrap()
+                .clone();
+            crba(&model, &mut b, q.as_slice()).unwrap();
+            let reused = nonlinear_effects_at_placements(&model, &mut b, v.as_slice()).unwrap();
+            assert_eq!(&full, reused, "{name}, state {s}");
+        }
+    }
+}
+
 #[test]
 fn one_pass_drifts_match_the_separate_algorithms() {
     for (name, model) in robots() {

@@ -7,37 +7,23 @@ use crate::linalg::{gemv, gemv_upper};
 
 /// The diagonal blocks of the symmetric `n × n` column-major `a` (lower triangle read):
 /// `start[j]..end[j]` is the block holding index `j`, the finest partition such that every
-/// entry `a[i, k]` with `i` and `k` in different blocks is exactly zero. `O(n²)` reads.
+/// entry `a[i, k]` with `i` and `k` in different blocks is exactly zero. Reads each column
+/// from the bottom up to its last non-zero only.
 pub(crate) fn diagonal_blocks(a: &[f64], n: usize, start: &mut [usize], end: &mut [usize]) {
-    // first[i] = the first column with a non-zero in row i (at most i), kept in `start`.
-    let first = &mut start[..n];
-    for (i, f) in first.iter_mut().enumerate() {
-        *f = i;
-    }
-    for k in 0..n {
-        for i in k + 1..n {
-            if a[i + k * n] != 0.0 && first[i] > k {
-                first[i] = k;
-            }
-        }
-    }
-    // b starts a block when no row at or after b reaches a column before b.
-    let mut reach = n;
-    let mut block_end = n;
-    for b in (0..n).rev() {
-        reach = reach.min(first[b]);
-        end[b] = block_end;
-        if reach >= b {
-            block_end = b;
-        }
-    }
+    // A block ends before b when no column k < b has a non-zero in a row i ≥ b.
+    let mut reach = 0;
     let mut block_start = 0;
-    for j in 0..n {
-        if end[j] != end[j.saturating_sub(1)] || j == 0 {
-            block_start = j;
+    for k in 0..n {
+        if k > reach {
+            end[block_start..k].fill(k);
+            block_start = k;
         }
-        start[j] = block_start;
+        start[k] = block_start;
+        let column = &a[k * n + k..(k + 1) * n];
+        let last = k + column.iter().rposition(|x| *x != 0.0).unwrap_or(0);
+        reach = reach.max(last);
     }
+    end[block_start..n].fill(n);
 }
 
 /// Factor the lower triangle of the column-major `n × n` matrix `a` in place into `L`

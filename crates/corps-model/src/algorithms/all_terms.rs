@@ -14,14 +14,15 @@ use crate::spatial::Force;
 pub fn compute_all_terms(model: &Model, data: &mut Data, q: &[f64], v: &[f64]) -> Result<()> {
     model.check_configuration(q)?;
     check_vector("velocity v", v, model.nv)?;
-    rnea_pass(model, data, q, Some(v), None, true);
+    rnea_pass(model, data, q, Some(v), None, true, false);
     data.nle.copy_from(&data.tau);
     let mut ke = 0.0;
     for i in 0..model.njoints() {
         ke += model.inertias[i].kinetic_energy(&data.v[i]);
     }
     data.kinetic_energy = ke;
-    composite_pass(model, data, q, true);
+    // The RNEA pass left the joint placements at q: the composite pass reuses them.
+    composite_pass(model, data, q, true, true);
     fill_from_composites(model, data);
     let mut h = Force::zero();
     for (k, vk) in v.iter().enumerate() {

@@ -44,7 +44,7 @@ pub fn compute_centroidal_map<'d>(
     q: &[f64],
 ) -> Result<&'d Matrix6xX<f64>> {
     model.check_configuration(q)?;
-    composite_pass(model, data, q, false);
+    composite_pass(model, data, q, false, false);
     fill_from_composites(model, data);
     Ok(&data.ag)
 }
@@ -86,7 +86,7 @@ pub fn centroidal_momentum_drift(
     v: &[f64],
 ) -> Result<Force> {
     compute_centroidal_momentum(model, data, q, v)?;
-    motion_pass(model, data, q, Some(v), None);
+    motion_pass(model, data, q, Some(v), None, false);
     let mut rate = Force::zero();
     for i in 0..model.njoints() {
         let inertia = &model.inertias[i];
@@ -145,8 +145,9 @@ pub fn com_at_placements(model: &Model, data: &Data) -> (Vector3<f64>, Vector3<f
 
 /// Both drifts a whole-body controller needs at q̈ = 0, from one kinematic pass: the CoM
 /// acceleration J̇com v (`data.acom`) and the centroidal momentum rate Ȧ_G v (`data.dag_v`,
-/// about `data.com`). Needs `data.com` at q (e.g. from [`crate::compute_all_terms`]); leaves
-/// the q̈ = 0 local velocities and accelerations in `data.v`, `data.a` (frame drifts).
+/// about `data.com`). Needs `data.com` and the joint placements at q (both left by
+/// [`crate::compute_all_terms`] at q; the placements are reused, no joint trigonometry);
+/// leaves the q̈ = 0 local velocities and accelerations in `data.v`, `data.a` (frame drifts).
 pub fn com_and_momentum_drifts(
     model: &Model,
     data: &mut Data,
@@ -155,7 +156,7 @@ pub fn com_and_momentum_drifts(
 ) -> Result<(Vector3<f64>, Force)> {
     model.check_configuration(q)?;
     check_vector("velocity v", v, model.nv)?;
-    motion_pass(model, data, q, Some(v), None);
+    motion_pass(model, data, q, Some(v), None, true);
     let (mut m, mut ac, mut rate) = (0.0, Vector3::zeros(), Force::zero());
     for i in 0..model.njoints() {
         let inertia = &model.inertias[i];

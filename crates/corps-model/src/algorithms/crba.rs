@@ -4,7 +4,7 @@
 //! `M[i, subtree(i)] = J_iᵀ (Yc_j J_j)` for every j in the subtree of i.
 
 use super::jacobians::write_joint_columns;
-use super::kinematics::placements;
+use super::kinematics::{compose_placements, placements};
 use crate::data::{col_motion, set_col, Data};
 use crate::error::Result;
 use crate::model::Model;
@@ -14,14 +14,25 @@ use nalgebra::DMatrix;
 /// Jacobians in `data.j` and the composite inertias in `data.composite`.
 pub fn crba<'d>(model: &Model, data: &'d mut Data, q: &[f64]) -> Result<&'d DMatrix<f64>> {
     model.check_configuration(q)?;
-    composite_pass(model, data, q, true);
+    composite_pass(model, data, q, true, false);
     Ok(&data.m)
 }
 
 /// Forward: placements, world Jacobians, world body inertias; backward: composite inertias
-/// and, when `with_m`, the upper triangle of M mirrored to the lower.
-pub(crate) fn composite_pass(model: &Model, data: &mut Data, q: &[f64], with_m: bool) {
-    placements(model, data, q);
+/// and, when `with_m`, the upper triangle of M mirrored to the lower. With
+/// `reuse_placements`, the joint placements are those a pass at the same q left in `data`.
+pub(crate) fn composite_pass(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    with_m: bool,
+    reuse_placements: bool,
+) {
+    if reuse_placements {
+        compose_placements(model, data);
+    } else {
+        placements(model, data, q);
+    }
     for i in 0..model.njoints() {
         write_joint_columns(model, data, i);
         data.composite[i] = model.inertias[i]

@@ -9,7 +9,7 @@ use crate::model::{check_vector, Model};
 pub fn kinetic_energy(model: &Model, data: &mut Data, q: &[f64], v: &[f64]) -> Result<f64> {
     model.check_configuration(q)?;
     check_vector("velocity v", v, model.nv)?;
-    motion_pass(model, data, q, Some(v), None);
+    motion_pass(model, data, q, Some(v), None, false);
     data.kinetic_energy = (0..model.njoints())
         .map(|i| model.inertias[i].kinetic_energy(&data.v[i]))
         .sum();

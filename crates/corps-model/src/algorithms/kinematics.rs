@@ -24,7 +24,7 @@ pub fn forward_kinematics(
     model.check_configuration(q)?;
     check_vector("velocity v", v, model.nv)?;
     check_vector("acceleration a", a, model.nv)?;
-    motion_pass(model, data, q, Some(v), Some(a));
+    motion_pass(model, data, q, Some(v), Some(a), false);
     Ok(())
 }
 
@@ -33,6 +33,37 @@ pub fn forward_kinematics(
 pub(crate) fn placements(model: &Model, data: &mut Data, q: &[f64]) {
     for (i, j) in model.joints.iter().enumerate() {
         place_joint(j, i, data, q);
+    }
+}
+
+/// `o_m_i` from the `li_m_i` already in `data` (a pass at the same q computed them): the
+/// joint trigonometry of one state is then evaluated once.
+#[inline]
+pub(crate) fn compose_placements(model: &Model, data: &mut Data) {
+    for (i, j) in model.joints.iter().enumerate() {
+        data.o_m_i[i] = match j.parent {
+            Some(p) => data.o_m_i[p] * data.li_m_i[i],
+            None => data.li_m_i[i],
+        };
+    }
+}
+
+/// `li_m_i` of joint `i` at `q`, or with `reuse` the one already in `data` (computed at the
+/// same q by an earlier pass).
+#[inline]
+pub(crate) fn local_placement(
+    j: &crate::joint::Joint,
+    i: usize,
+    data: &mut Data,
+    q: &[f64],
+    reuse: bool,
+) -> crate::spatial::Se3 {
+    if reuse {
+        data.li_m_i[i]
+    } else {
+        let li = j.kind.placed_transform(&j.placement, &q[j.idx_q..]);
+        data.li_m_i[i] = li;
+        li
     }
 }
 
@@ -47,17 +78,18 @@ pub(crate) fn place_joint(j: &crate::joint::Joint, i: usize, data: &mut Data, q:
     data.li_m_i[i] = li;
 }
 
-/// Placements, local velocities and accelerations; `None` stands for a zero vector.
-/// When `a_gravity` is set, the acceleration written to `data.a_gf` includes −g.
+/// Placements, local velocities and accelerations; `None` stands for a zero vector. With
+/// `reuse`, the local placements are those already in `data` (see [`local_placement`]).
 pub(crate) fn motion_pass(
     model: &Model,
     data: &mut Data,
     q: &[f64],
     v: Option<&[f64]>,
     a: Option<&[f64]>,
+    reuse: bool,
 ) {
     for (i, j) in model.joints.iter().enumerate() {
-        let li = j.kind.placed_transform(&j.placement, &q[j.idx_q..]);
+        let li = local_placement(j, i, data, q, reuse);
         let vj = v.map_or(Motion::zero(), |v| j.kind.motion(&v[j.idx_v..]));
         let aj = a.map_or(Motion::zero(), |a| j.kind.motion(&a[j.idx_v..]));
         let (vi, ai, omi) = match j.parent {
@@ -68,7 +100,6 @@ pub(crate) fn motion_pass(
             ),
             None => (vj, Motion::zero(), li),
         };
-        data.li_m_i[i] = li;
         data.o_m_i[i] = omi;
         data.v[i] = vi;
         data.a[i] = ai + aj + vi.cross(&vj);

@@ -1,6 +1,7 @@
 //! Recursive Newton–Euler: inverse dynamics τ = M(q) q̈ + C(q, q̇) q̇ + g(q) (RBDA Table 5.1),
 //! and its special cases, the non-linear effects and the generalized gravity.
 
+use super::kinematics::local_placement;
 use crate::data::Data;
 use crate::error::Result;
 use crate::model::{check_vector, Model};
@@ -17,7 +18,7 @@ pub fn rnea<'d>(
     model.check_configuration(q)?;
     check_vector("velocity v", v, model.nv)?;
     check_vector("acceleration a", a, model.nv)?;
-    rnea_pass(model, data, q, Some(v), Some(a), true);
+    rnea_pass(model, data, q, Some(v), Some(a), true, false);
     Ok(&data.tau)
 }
 
@@ -30,7 +31,21 @@ pub fn nonlinear_effects<'d>(
 ) -> Result<&'d nalgebra::DVector<f64>> {
     model.check_configuration(q)?;
     check_vector("velocity v", v, model.nv)?;
-    rnea_pass(model, data, q, Some(v), None, true);
+    rnea_pass(model, data, q, Some(v), None, true, false);
+    data.nle.copy_from(&data.tau);
+    Ok(&data.nle)
+}
+
+/// h(q, v) as [`nonlinear_effects`], at the configuration whose joint placements
+/// `data.li_m_i` already hold (a CRBA, kinematics or RNEA pass at q just ran): no joint
+/// trigonometry. The caller vouches for q, as for [`crate::world_motions_from_jacobians`].
+pub fn nonlinear_effects_at_placements<'d>(
+    model: &Model,
+    data: &'d mut Data,
+    v: &[f64],
+) -> Result<&'d nalgebra::DVector<f64>> {
+    check_vector("velocity v", v, model.nv)?;
+    rnea_pass(model, data, &[], Some(v), None, true, true);
     data.nle.copy_from(&data.tau);
     Ok(&data.nle)
 }
@@ -42,7 +57,7 @@ pub fn generalized_gravity<'d>(
     q: &[f64],
 ) -> Result<&'d nalgebra::DVector<f64>> {
     model.check_configuration(q)?;
-    rnea_pass(model, data, q, None, None, true);
+    rnea_pass(model, data, q, None, None, true, false);
     data.g.copy_from(&data.tau);
     Ok(&data.g)
 }
@@ -55,6 +70,7 @@ pub(crate) fn rnea_pass(
     v: Option<&[f64]>,
     a: Option<&[f64]>,
     gravity: bool,
+    reuse_placements: bool,
 ) {
     let a0 = if gravity {
         Motion::new(-model.gravity, nalgebra::Vector3::zeros())
@@ -62,7 +78,7 @@ pub(crate) fn rnea_pass(
         Motion::zero()
     };
     for (i, j) in model.joints.iter().enumerate() {
-        let li = j.kind.placed_transform(&j.placement, &q[j.idx_q..]);
+        let li = local_placement(j, i, data, q, reuse_placements);
         let vj = v.map_or(Motion::zero(), |v| j.kind.motion(&v[j.idx_v..]));
         let aj = a.map_or(Motion::zero(), |a| j.kind.motion(&a[j.idx_v..]));
         let (vi, ap) = match j.parent {
@@ -71,7 +87,6 @@ pub(crate) fn rnea_pass(
         };
         let ai = li.act_inv_motion(&ap) + aj + vi.cross(&vj);
         let inertia = &model.inertias[i];
-        data.li_m_i[i] = li;
         data.v[i] = vi;
         data.a_gf[i] = ai;
         data.f[i] = inertia.mul_motion(&ai) + vi.cross_force(&inertia.mul_motion(&vi));

@@ -25,8 +25,8 @@ use crate::contact_pass::{contact_pass, PointVisit};
 use crate::error::Result;
 use corps_model::spatial::{Force, Motion};
 use corps_model::{
-    crba, factorize_branch_sparse, integrate_to, nonlinear_effects, solve_mass_matrix,
-    world_motions_from_jacobians, Model,
+    crba, factorize_branch_sparse, integrate_to, nonlinear_effects_at_placements,
+    solve_mass_matrix, world_motions_from_jacobians, Model,
 };
 use nalgebra::{DVector, Matrix3, Matrix6, Matrix6xX, Vector3, Vector6};
 
@@ -162,12 +162,13 @@ impl Simulator {
             &mut w.servo_damping,
         );
         // Checked sizes: none of these calls can fail. M, the world Jacobians, placements and
-        // twists at (q, v) are left by the previous step unless the state was set since.
-        let _ = nonlinear_effects(model, &mut self.data, q, v);
+        // twists at (q, v) are left by the previous step unless the state was set since; h
+        // reuses the joint placements of that CRBA pass.
         if !w.terms_valid {
             let _ = crba(model, &mut self.data, q);
             let _ = world_motions_from_jacobians(model, &mut self.data, v, w.zeros.as_slice());
         }
+        let _ = nonlinear_effects_at_placements(model, &mut self.data, v);
 
         // Contact: explicit wrenches f₀ − h K v_p and implicit gains h (D + h K) per body.
         w.body_gain
