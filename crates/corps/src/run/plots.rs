@@ -3,7 +3,7 @@
 //! the ankle admittance's offsets and rates and each foot's CoP against its target.
 
 use super::Series;
-use crate::sim_cmd::plots::{draw_figure, Panel};
+use crate::sim_cmd::plots::{draw_figures, Figure, Panel};
 use anyhow::Result;
 use std::path::{Path, PathBuf};
 
@@ -28,10 +28,17 @@ pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
     let foot_fz = s.foot_fz.each_ref().map(d);
     let base = s.base.each_ref().map(d);
     let tick = d(&s.tick_us);
-    let mut files = vec![];
+    let mut figures: Vec<Figure> = vec![];
+    let mut figure = |name: &str, title: String, panels, cols: usize| {
+        figures.push(Figure {
+            path: dir.join(name),
+            title,
+            panels,
+            cols,
+        })
+    };
     let axes = ["x", "y", "z"];
 
-    let path = dir.join("com.png");
     let panels: Vec<Panel> = (0..3)
         .map(|k| {
             Panel::new(
@@ -44,10 +51,8 @@ pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
             )
         })
         .collect();
-    draw_figure(&path, &format!("{title}: centre of mass"), &t, &panels, 3)?;
-    files.push(path);
+    figure("com.png", format!("{title}: centre of mass"), panels, 3);
 
-    let path = dir.join("zmp.png");
     let panels: Vec<Panel> = (0..2)
         .map(|k| {
             Panel::new(
@@ -60,16 +65,8 @@ pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
             )
         })
         .collect();
-    draw_figure(
-        &path,
-        &format!("{title}: zero-moment point"),
-        &t,
-        &panels,
-        2,
-    )?;
-    files.push(path);
+    figure("zmp.png", format!("{title}: zero-moment point"), panels, 2);
 
-    let path = dir.join("feet.png");
     let names = ["left", "right"];
     let mut panels: Vec<Panel> = (0..2)
         .map(|k| {
@@ -97,26 +94,28 @@ pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
             ("z".into(), &base[2]),
         ],
     ));
-    draw_figure(&path, &format!("{title}: feet and base"), &t, &panels, 2)?;
-    files.push(path);
+    figure("feet.png", format!("{title}: feet and base"), panels, 2);
 
-    let path = dir.join("tick_time.png");
     let panels = vec![Panel::new(
         "controller time per tick",
         "µs",
         vec![("tick".into(), &tick)],
     )];
-    draw_figure(&path, &format!("{title}: controller time"), &t, &panels, 1)?;
-    files.push(path);
+    figure(
+        "tick_time.png",
+        format!("{title}: controller time"),
+        panels,
+        1,
+    );
 
+    // The stabilizer's series (empty without one), decimated here to outlive the figures.
     let st = &s.stabilizer;
+    let dd = |x: &[Vec<f64>; 2]| x.each_ref().map(d);
+    let offset = st.ankle_offset.each_ref().map(dd);
+    let rate = st.ankle_rate.each_ref().map(dd);
+    let cop = st.cop.each_ref().map(dd);
+    let cop_des = st.cop_des.each_ref().map(dd);
     if !st.is_empty() {
-        let dd = |x: &[Vec<f64>; 2]| x.each_ref().map(d);
-        let offset = st.ankle_offset.each_ref().map(dd);
-        let rate = st.ankle_rate.each_ref().map(dd);
-        let cop = st.cop.each_ref().map(dd);
-        let cop_des = st.cop_des.each_ref().map(dd);
-        let path = dir.join("ankle.png");
         let mut panels = vec![];
         for f in 0..2 {
             panels.push(Panel::new(
@@ -145,8 +144,7 @@ pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
                 ));
             }
         }
-        draw_figure(&path, &format!("{title}: ankle admittance"), &t, &panels, 2)?;
-        files.push(path);
+        figure("ankle.png", format!("{title}: ankle admittance"), panels, 2);
     }
-    Ok(files)
+    draw_figures(&t, &figures)
 }

@@ -104,27 +104,27 @@ impl Traces {
 
     /// Writes every plot into `dir`; returns the files written.
     pub fn write_pngs(&self, dir: &Path) -> Result<Vec<PathBuf>> {
-        register_font();
-        let mut written = vec![];
-        let mut figure = |name: &str, title: &str, panels: Vec<Panel>, cols: usize| {
-            let path = dir.join(name);
-            draw_figure(&path, title, &self.t, &panels, cols)
-                .with_context(|| format!("drawing {}", path.display()))?;
-            written.push(path);
-            Ok::<_, anyhow::Error>(())
+        let mut figures: Vec<Figure> = vec![];
+        let mut figure = |name: &str, title: &str, panels, cols: usize| {
+            figures.push(Figure {
+                path: dir.join(name),
+                title: title.into(),
+                panels,
+                cols,
+            });
         };
         figure(
             "base_height.png",
             "Base height",
             vec![Panel::new("base z", "m", vec![("z".into(), &self.base_z)])],
             1,
-        )?;
+        );
         let com = ["x", "y", "z"]
             .iter()
             .zip(&self.com)
             .map(|(a, c)| Panel::new(&format!("CoM {a}"), "m", vec![((*a).into(), c)]))
             .collect();
-        figure("com.png", "Centre of mass (world)", com, 1)?;
+        figure("com.png", "Centre of mass (world)", com, 1);
         if !self.feet.is_empty() {
             let cop = ["x", "y"]
                 .iter()
@@ -145,7 +145,7 @@ impl Traces {
                 "Centre of pressure per foot (from the measured F/T readings)",
                 cop,
                 1,
-            )?;
+            );
         }
         let mut forces: Vec<(String, &Vec<f64>)> =
             self.feet.iter().map(|f| (f.label.clone(), &f.fz)).collect();
@@ -155,16 +155,16 @@ impl Traces {
             "Vertical contact forces",
             vec![Panel::new("fz", "N", forces)],
             1,
-        )?;
+        );
         if !self.joints.is_empty() {
             figure(
                 "joint_torques.png",
                 "Applied joint torques",
                 self.torque_panels(),
                 2,
-            )?;
+            );
         }
-        Ok(written)
+        draw_figures(&self.t, &figures)
     }
 
     /// One panel per joint group (`leg_left_4_joint` belongs to `leg_left`).
@@ -206,6 +206,42 @@ impl<'a> Panel<'a> {
             series,
         }
     }
+}
+
+/// One PNG to draw: its path, title, panels and number of panel columns.
+pub(crate) struct Figure<'a> {
+    pub path: PathBuf,
+    pub title: String,
+    pub panels: Vec<Panel<'a>>,
+    pub cols: usize,
+}
+
+/// Draws the figures over the time axis `t`, each on its own thread (rasterizing and PNG
+/// encoding are the slow part of writing a run's results, and the figures are independent);
+/// returns their paths, in order, or the first failure.
+pub(crate) fn draw_figures(t: &[f64], figures: &[Figure<'_>]) -> Result<Vec<PathBuf>> {
+    register_font();
+    let results: Vec<Result<()>> = std::thread::scope(|scope| {
+        let jobs: Vec<_> = figures
+            .iter()
+            .map(|f| {
+                scope.spawn(move || {
+                    draw_figure(&f.path, &f.title, t, &f.panels, f.cols)
+                        .with_context(|| format!("drawing {}", f.path.display()))
+                })
+            })
+            .collect();
+        jobs.into_iter()
+            .map(|j| {
+                j.join()
+                    .unwrap_or_else(|_| Err(anyhow::anyhow!("a plotting thread panicked")))
+            })
+            .collect()
+    });
+    for r in results {
+        r?;
+    }
+    Ok(figures.iter().map(|f| f.path.clone()).collect())
 }
 
 fn register_font() {
