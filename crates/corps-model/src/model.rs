@@ -51,6 +51,11 @@ pub struct Model {
     /// factorization walks them as slices instead of chasing parent links.
     pub dof_ancestors: Vec<usize>,
     pub dof_ancestors_start: Vec<usize>,
+    /// The same ancestors as runs of consecutive velocity indices `(lo, hi)` (inclusive),
+    /// nearest run first (a limb, then the torso, then the base): those of `k` are
+    /// `dof_ancestor_runs[dof_ancestor_runs_start[k]..dof_ancestor_runs_start[k + 1]]`.
+    pub dof_ancestor_runs: Vec<(usize, usize)>,
+    pub dof_ancestor_runs_start: Vec<usize>,
 }
 
 impl Model {
@@ -58,6 +63,14 @@ impl Model {
     #[inline]
     pub fn dof_ancestors(&self, k: usize) -> &[usize] {
         &self.dof_ancestors[self.dof_ancestors_start[k]..self.dof_ancestors_start[k + 1]]
+    }
+
+    /// The ancestors of velocity index `k` as runs `(lo, hi)` of consecutive indices, nearest
+    /// first; within a run the chain goes `hi, hi − 1, …, lo`.
+    #[inline]
+    pub fn dof_ancestor_runs(&self, k: usize) -> &[(usize, usize)] {
+        &self.dof_ancestor_runs
+            [self.dof_ancestor_runs_start[k]..self.dof_ancestor_runs_start[k + 1]]
     }
 
     /// Number of moving joints.

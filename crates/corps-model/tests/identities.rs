@@ -661,6 +661,21 @@ fn one_pass_drifts_match_the_separate_algorithms() {
     }
 }
 
+/// The ancestor runs, expanded, are the ancestor chain, in order.
+#[test]
+fn ancestor_runs_expand_to_the_chain() {
+    for (name, model) in robots() {
+        for k in 0..model.nv {
+            let expanded: Vec<usize> = model
+                .dof_ancestor_runs(k)
+                .iter()
+                .flat_map(|&(lo, hi)| (lo..=hi).rev())
+                .collect();
+            assert_eq!(expanded, model.dof_ancestors(k), "{name}, dof {k}");
+        }
+    }
+}
+
 #[test]
 fn sparse_factorization_solves_a_70_link_chain() {
     // A 70-link serial arm: every dof's ancestor chain is long (TALOS' longest is 15).

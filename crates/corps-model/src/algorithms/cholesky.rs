@@ -19,8 +19,9 @@ pub fn factorize_mass_matrix(model: &Model, data: &mut Data) {
 /// Factorizes in place a symmetric positive-definite matrix whose non-zeros lie within M's
 /// branch pattern (entry (i, j) only where one dof is an ancestor of the other): M itself, or
 /// M plus terms `Jᵀ K J` of bodies' Jacobians and a diagonal, as an implicit integrator
-/// forms. On return the lower triangle holds L (unit diagonal implied) and the diagonal D,
-/// for [`solve_mass_matrix`]. A matrix that is not `nv × nv` is an error.
+/// forms. Both triangles must hold the matrix. On return the lower triangle holds L (unit
+/// diagonal implied), the strict upper triangle Lᵀ, and the diagonal D, for
+/// [`solve_mass_matrix`]. A matrix that is not `nv × nv` is an error.
 pub fn factorize_branch_sparse(model: &Model, h: &mut DMatrix<f64>) -> Result<()> {
     let n = model.nv;
     if h.nrows() != n || h.ncols() != n {
@@ -30,18 +31,38 @@ pub fn factorize_branch_sparse(model: &Model, h: &mut DMatrix<f64>) -> Result<()
             expected: n * n,
         });
     }
-    // Column-major: entry (r, c) at c * n + r. The ancestors of the c-th ancestor of k are
-    // k's chain from c on, so every inner loop runs over a slice.
+    // Works in the upper triangle, column-major: entry (r, c), r ≤ c, at c n + r. The
+    // ancestors of an ancestor ii of k (ii included) are the rest of k's chain from ii on; the
+    // chain is a few runs of consecutive dofs (a limb, the torso, the base), so column ii is
+    // updated from column k over contiguous slices.
     let h = h.as_mut_slice();
+    let sub = |x: &mut [f64], a: f64, y: &[f64]| {
+        for (xi, yi) in x.iter_mut().zip(y) {
+            *xi -= a * yi;
+        }
+    };
     for k in (0..n).rev() {
-        let chain = model.dof_ancestors(k);
+        let runs = model.dof_ancestor_runs(k);
         let dk = h[k * n + k];
-        for (c, &ii) in chain.iter().enumerate() {
-            let a = h[ii * n + k] / dk;
-            for &jj in &chain[c..] {
-                h[jj * n + ii] -= a * h[jj * n + k];
+        // Ancestors have smaller indices: columns ii < k lie before column k.
+        let (before, from_k) = h.split_at_mut(k * n);
+        let col_k = &mut from_k[..n];
+        for (r, &(lo, hi)) in runs.iter().enumerate() {
+            for ii in (lo..=hi).rev() {
+                let a = col_k[ii] / dk;
+                let col_ii = &mut before[ii * n..ii * n + n];
+                sub(&mut col_ii[lo..=ii], a, &col_k[lo..=ii]);
+                for &(lo2, hi2) in &runs[r + 1..] {
+                    sub(&mut col_ii[lo2..=hi2], a, &col_k[lo2..=hi2]);
+                }
+                col_k[ii] = a;
             }
-            h[ii * n + k] = a;
+        }
+    }
+    // L into the lower triangle: L[k, ii] = U[ii, k].
+    for k in 0..n {
+        for &ii in model.dof_ancestors(k) {
+            h[ii * n + k] = h[k * n + ii];
         }
     }
     Ok(())
@@ -51,11 +72,12 @@ pub fn factorize_branch_sparse(model: &Model, h: &mut DMatrix<f64>) -> Result<()
 /// or of any matrix [`factorize_branch_sparse`] takes).
 pub fn solve_mass_matrix(model: &Model, ltdl: &DMatrix<f64>, b: &mut [f64]) {
     let n = model.nv;
-    let h = ltdl.as_slice(); // column-major: L[k, i] = h[i * n + k]
+    let h = ltdl.as_slice(); // column-major: L[k, i] = h[i * n + k] = h[k * n + i]
     for k in (0..n).rev() {
         let bk = b[k];
+        let col_k = &h[k * n..k * n + n];
         for &ii in model.dof_ancestors(k) {
-            b[ii] -= h[ii * n + k] * bk;
+            b[ii] -= col_k[ii] * bk;
         }
     }
     for (k, bk) in b.iter_mut().enumerate() {
@@ -69,8 +91,9 @@ fn solve_unit_lower(model: &Model, h: &[f64], b: &mut [f64]) {
     let n = model.nv;
     for k in 0..n {
         let mut acc = b[k];
+        let col_k = &h[k * n..k * n + n]; // Lᵀ: col_k[ii] = L[k, ii]
         for &ii in model.dof_ancestors(k) {
-            acc -= h[ii * n + k] * b[ii];
+            acc -= col_k[ii] * b[ii];
         }
         b[k] = acc;
     }
@@ -87,7 +110,7 @@ pub fn compute_minverse<'d>(
     crba(model, data, q)?;
     factorize_mass_matrix(model, data);
     let n = model.nv;
-    let h = data.ltdl.as_slice(); // column-major: L[k, i] = h[i * n + k]
+    let h = data.ltdl.as_slice(); // column-major: L[k, i] = h[i * n + k] = h[k * n + i]
     for (k, d) in data.tmp_nv.iter_mut().enumerate() {
         *d = 1.0 / h[k * n + k];
     }
@@ -97,8 +120,9 @@ pub fn compute_minverse<'d>(
         col[c] = 1.0;
         for kk in std::iter::once(c).chain(model.dof_ancestors(c).iter().copied()) {
             let bk = col[kk];
+            let col_kk = &h[kk * n..kk * n + n]; // Lᵀ: col_kk[ii] = L[kk, ii]
             for &ii in model.dof_ancestors(kk) {
-                col[ii] -= h[ii * n + kk] * bk;
+                col[ii] -= col_kk[ii] * bk;
             }
         }
         for (x, d) in col.iter_mut().zip(dinv) {

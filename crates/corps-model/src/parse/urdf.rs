@@ -529,6 +529,23 @@ impl<'a> TreeBuilder<'a> {
             }
             dof_ancestors_start.push(dof_ancestors.len());
         }
+        let mut dof_ancestor_runs: Vec<(usize, usize)> = Vec::new();
+        let mut dof_ancestor_runs_start = vec![0];
+        for k in 0..self.nv {
+            let chain = &dof_ancestors[dof_ancestors_start[k]..dof_ancestors_start[k + 1]];
+            let first = dof_ancestor_runs.len();
+            for &ii in chain {
+                let extends = dof_ancestor_runs.len() > first
+                    && dof_ancestor_runs
+                        .last()
+                        .is_some_and(|&(lo, _)| lo == ii + 1);
+                match dof_ancestor_runs.last_mut() {
+                    Some((lo, _)) if extends => *lo = ii,
+                    _ => dof_ancestor_runs.push((ii, ii)),
+                }
+            }
+            dof_ancestor_runs_start.push(dof_ancestor_runs.len());
+        }
         Model {
             name,
             joints: self.out_joints,
@@ -548,6 +565,8 @@ impl<'a> TreeBuilder<'a> {
             dof_joint,
             dof_ancestors,
             dof_ancestors_start,
+            dof_ancestor_runs,
+            dof_ancestor_runs_start,
         }
     }
 }
