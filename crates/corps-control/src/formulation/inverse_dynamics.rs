@@ -394,14 +394,19 @@ impl InverseDynamics {
         self.output.dv.copy_from(&sol.x.rows(0, nv));
         let nf = self.output.forces.len();
         self.output.forces.copy_from(&sol.x.rows(nv, nf));
-        // τ = M_a q̈ + h_a − Jc_aᵀ f.
+        // τ = M_a q̈ + h_a − Jc_aᵀ f; M_a q̈ column by column (contiguous in M).
         let (m, h) = (&s.data.m, &s.data.nle);
+        let first = self.first;
+        let tau = self.output.tau.as_mut_slice();
+        tau.copy_from_slice(&h.as_slice()[first..nv]);
+        for (column, &dv) in m.as_slice().chunks_exact(nv).zip(self.output.dv.iter()) {
+            for (t, mc) in tau.iter_mut().zip(&column[first..]) {
+                *t += mc * dv;
+            }
+        }
         for k in 0..nv - self.first {
             let r = self.first + k;
-            let mut t = h[r];
-            for c in 0..nv {
-                t += m[(r, c)] * self.output.dv[c];
-            }
+            let mut t = self.output.tau[k];
             let mut o = 0;
             for contact in &self.contacts {
                 for j in 0..contact.n_force() {
