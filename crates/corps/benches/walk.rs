@@ -1,0 +1,64 @@
+//! Whole walks simulated with control at 1 kHz (issue "Walking", speed goal: ≥ 10× faster
+//! than real time). One iteration is the main job's walk — TALOS, 6 × 20 cm plus a closing
+//! step under TSID torque control, 0.5 s settle + 11 s controlled = 11.5 s simulated — from
+//! the scenario text to the metrics and the CSV log: planning, every simulation step and
+//! control tick, the metrics. The PNG plots are off (drawing them is output, not simulation;
+//! `tools/bench/walk_speed.py` times the whole `corps run` command with them).
+//!
+//! The anchor, measured in the same run: the same walk on the simulator setup the torque
+//! walks used before implicit Euler (4 RK4 substeps per tick on the same stiff contact).
+//!
+//! `cargo bench -p corps --bench walk`; real-time factor = 11.5 s / the median.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::path::Path;
+use std::time::Duration;
+
+const SCENARIO: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../../scenarios/walk/tsid_torque_20cm.toml"
+);
+
+/// The scenario text with the plots off, and optionally the RK4 anchor's integrator.
+fn scenario_text(rk4_anchor: bool) -> String {
+    let text = std::fs::read_to_string(SCENARIO).expect("the 20 cm walk scenario");
+    let mut text = text.replacen("[output]\n", "[output]\nplots = false\n", 1);
+    assert!(
+        text.contains("plots = false"),
+        "no [output] section to turn plots off"
+    );
+    if rk4_anchor {
+        let implicit = "integrator = \"implicit_euler\"";
+        assert!(
+            text.contains(implicit),
+            "the walk no longer runs implicit Euler"
+        );
+        text = text.replacen(implicit, "integrator = \"rk4\"\nsubsteps = 4", 1);
+    }
+    text
+}
+
+fn walk(c: &mut Criterion) {
+    let out = tempfile::tempdir().expect("a temporary output directory");
+    let mut group = c.benchmark_group("walk_tsid_torque_20cm_11.5s_simulated");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(2))
+        .measurement_time(Duration::from_secs(15));
+    for (label, rk4_anchor) in [("implicit_euler", false), ("anchor_rk4_x4", true)] {
+        let text = scenario_text(rk4_anchor);
+        group.bench_function(label, |b| {
+            b.iter(|| {
+                let report =
+                    corps::run::run_text(&text, Path::new(SCENARIO), Some(out.path()), None, false)
+                        .expect("the walk runs");
+                assert_eq!(report.metrics.fallbacks, 0, "the controller fell back");
+                report
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, walk);
+criterion_main!(benches);
