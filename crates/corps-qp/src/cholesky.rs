@@ -20,7 +20,12 @@ pub(crate) fn diagonal_blocks(a: &[f64], n: usize, start: &mut [usize], end: &mu
         }
         start[k] = block_start;
         let column = &a[k * n + k..(k + 1) * n];
-        let last = k + column.iter().rposition(|x| *x != 0.0).unwrap_or(0);
+        // Trailing zeros eight at a time (a vectorized test), then the last non-zero.
+        let mut len = column.len();
+        while len >= 8 && column[len - 8..len].iter().all(|x| *x == 0.0) {
+            len -= 8;
+        }
+        let last = k + column[..len].iter().rposition(|x| *x != 0.0).unwrap_or(0);
         reach = reach.max(last);
     }
     end[block_start..n].fill(n);

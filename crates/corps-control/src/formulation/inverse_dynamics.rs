@@ -477,17 +477,26 @@ fn add_wrench_cost(
     w: f64,
 ) {
     let nf = t.ncols();
+    debug_assert_eq!(t.nrows(), 6, "a wrench generator has six rows");
+    let nh = h.nrows();
+    let (hs, ts) = (h.as_mut_slice(), t.as_slice());
+    // Column i of T is ts[6 i..6 i + 6]; u = diag(cw²) T column i, in the same order of
+    // operations as Σ_r cw_r cw_r T_ri T_rj.
+    let cw2 = cw.map(|c| c * c);
     for i in 0..nf {
+        let ti = &ts[6 * i..6 * i + 6];
+        let u: [f64; 6] = std::array::from_fn(|r| cw2[r] * ti[r]);
         for j in 0..nf {
+            let tj = &ts[6 * j..6 * j + 6];
             let mut acc = 0.0;
             for r in 0..6 {
-                acc += cw[r] * cw[r] * t[(r, i)] * t[(r, j)];
+                acc += u[r] * tj[r];
             }
-            h[(col + i, col + j)] += w * acc;
+            hs[(col + j) * nh + col + i] += w * acc;
         }
         let mut acc = 0.0;
         for r in 0..6 {
-            acc += cw[r] * cw[r] * t[(r, i)] * f_ref[r];
+            acc += u[r] * f_ref[r];
         }
         g[col + i] -= w * acc;
     }
