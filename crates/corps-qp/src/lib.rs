@@ -136,6 +136,13 @@ mod problem;
 mod status;
 
 pub use active_set::ActiveSetSolver;
+
+/// `a · b` over the common prefix of the slices, in 16 independent partial sums: the solver's
+/// own dot-product kernel (portable build), for long products elsewhere in the stack, e.g. a
+/// preview controller's 1600-sample window, where a single accumulator is latency-bound.
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    linalg::dot::<false>(a, b)
+}
 pub use hierarchical::{HierarchicalQp, HqpError, Level};
 pub use problem::{ActiveConstraint, QpProblem, Settings, Solution};
 pub use status::{QpError, QpStatus};

@@ -676,6 +676,23 @@ mod tests {
     use super::*;
 
     #[test]
+    fn dot_matches_the_sequential_sum_at_every_length_class() {
+        // Around the 16- and 4-wide blocks, with remainders, an empty product, and a preview
+        // controller's window.
+        for len in [0usize, 1, 3, 4, 15, 16, 17, 21, 320, 1601] {
+            let a: Vec<f64> = (0..len).map(|j| (0.37 * j as f64).sin()).collect();
+            let b: Vec<f64> = (0..len).map(|j| 1.0 + (0.11 * j as f64).cos()).collect();
+            let sequential: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
+            let scale: f64 = a.iter().zip(&b).map(|(x, y)| (x * y).abs()).sum();
+            let got = crate::dot(&a, &b);
+            assert!(
+                (got - sequential).abs() <= 1e-14 * scale.max(1.0),
+                "len {len}: {got} vs {sequential}"
+            );
+        }
+    }
+
+    #[test]
     fn kernels_agree_between_paths() {
         let a: Vec<f64> = (0..13).map(|i| (i as f64 * 0.37).sin()).collect();
         let b: Vec<f64> = (0..13).map(|i| (i as f64 * 0.91).cos()).collect();
