@@ -1,5 +1,6 @@
 //! External pushes: a constant wrench on a named body for a time window.
 
+use corps_model::spatial::{Force, Se3};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -28,5 +29,13 @@ impl Push {
 
     pub fn torque(&self) -> Vector3<f64> {
         Vector3::from(self.torque)
+    }
+
+    /// The push as a world wrench about the world origin, on a body placed at `o_m_joint`
+    /// with the pushed frame at `placement` in it.
+    pub fn world_wrench(&self, o_m_joint: &Se3, placement: &Se3) -> Force {
+        let p = o_m_joint.act_point(&placement.translation);
+        let f = self.force();
+        Force::new(f, p.cross(&f) + self.torque())
     }
 }

@@ -475,9 +475,7 @@ impl Simulator {
                 );
                 for (push, joint, placement) in pushes {
                     if push.active(t) {
-                        let p = o_m_i[*joint].act_point(&placement.translation);
-                        let f = push.force();
-                        fext[*joint] += Force::new(f, p.cross(&f) + push.torque());
+                        fext[*joint] += push.world_wrench(&o_m_i[*joint], placement);
                     }
                 }
             },

@@ -535,12 +535,9 @@ impl<'a> TreeBuilder<'a> {
             let chain = &dof_ancestors[dof_ancestors_start[k]..dof_ancestors_start[k + 1]];
             let first = dof_ancestor_runs.len();
             for &ii in chain {
-                let extends = dof_ancestor_runs.len() > first
-                    && dof_ancestor_runs
-                        .last()
-                        .is_some_and(|&(lo, _)| lo == ii + 1);
-                match dof_ancestor_runs.last_mut() {
-                    Some((lo, _)) if extends => *lo = ii,
+                // Extend this dof's current run when ii is the next index down.
+                match dof_ancestor_runs[first..].last_mut() {
+                    Some((lo, _)) if *lo == ii + 1 => *lo = ii,
                     _ => dof_ancestor_runs.push((ii, ii)),
                 }
             }

@@ -226,9 +226,7 @@ impl Simulator {
         );
         for (push, joint, placement) in &self.pushes {
             if push.active(self.t) {
-                let p = self.data.o_m_i[*joint].act_point(&placement.translation);
-                let f = push.force();
-                w.body_wrench[*joint] += Force::new(f, p.cross(&f) + push.torque());
+                w.body_wrench[*joint] += push.world_wrench(&self.data.o_m_i[*joint], placement);
                 w.touched[*joint] = true;
             }
         }
