@@ -65,7 +65,7 @@ pub(crate) fn aba_pass<F>(
 {
     // Forward: placements, world twists, bias accelerations and forces, body inertias.
     for (i, j) in model.joints.iter().enumerate() {
-        place_joint(j, i, data, q);
+        place_joint(j, i, data, q, false);
         write_joint_columns(model, data, i);
         let vj = joint_world_twist(data, j, v);
         let ov = match j.parent {

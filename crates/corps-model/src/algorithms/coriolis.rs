@@ -44,7 +44,7 @@ pub fn coriolis_matrix<'d>(
 ) -> Result<&'d DMatrix<f64>> {
     model.check_configuration(q)?;
     check_vector("velocity v", v, model.nv)?;
-    placements(model, data, q);
+    placements(model, data, q, false);
     for (i, j) in model.joints.iter().enumerate() {
         write_joint_columns(model, data, i);
         let vj = joint_world_twist(data, j, v);

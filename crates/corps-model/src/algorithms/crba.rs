@@ -4,7 +4,7 @@
 //! `M[i, subtree(i)] = J_iᵀ (Yc_j J_j)` for every j in the subtree of i.
 
 use super::jacobians::write_joint_columns;
-use super::kinematics::{compose_placements, placements};
+use super::kinematics::placements;
 use crate::data::{col_motion, set_col, Data};
 use crate::error::Result;
 use crate::model::Model;
@@ -28,11 +28,7 @@ pub(crate) fn composite_pass(
     with_m: bool,
     reuse_placements: bool,
 ) {
-    if reuse_placements {
-        compose_placements(model, data);
-    } else {
-        placements(model, data, q);
-    }
+    placements(model, data, q, reuse_placements);
     for i in 0..model.njoints() {
         write_joint_columns(model, data, i);
         data.composite[i] = model.inertias[i]

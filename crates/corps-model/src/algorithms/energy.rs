@@ -19,7 +19,7 @@ pub fn kinetic_energy(model: &Model, data: &mut Data, q: &[f64], v: &[f64]) -> R
 /// Potential energy −Σ m_i gᵀ c_i in the gravity field (`data.potential_energy`).
 pub fn potential_energy(model: &Model, data: &mut Data, q: &[f64]) -> Result<f64> {
     model.check_configuration(q)?;
-    placements(model, data, q);
+    placements(model, data, q, false);
     data.potential_energy = (0..model.njoints())
         .map(|i| {
             let inertia = &model.inertias[i];

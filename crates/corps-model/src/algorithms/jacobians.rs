@@ -70,7 +70,7 @@ pub fn compute_joint_jacobians<'d>(
     q: &[f64],
 ) -> Result<&'d Matrix6xX<f64>> {
     model.check_configuration(q)?;
-    placements(model, data, q);
+    placements(model, data, q, false);
     for i in 0..model.njoints() {
         write_joint_columns(model, data, i);
     }

@@ -8,7 +8,7 @@ use crate::spatial::Motion;
 /// Joint placements only: `li_m_i` and `o_m_i` for configuration `q`.
 pub fn forward_kinematics_placements(model: &Model, data: &mut Data, q: &[f64]) -> Result<()> {
     model.check_configuration(q)?;
-    placements(model, data, q);
+    placements(model, data, q, false);
     Ok(())
 }
 
@@ -28,23 +28,12 @@ pub fn forward_kinematics(
     Ok(())
 }
 
-/// Computes `li_m_i` and `o_m_i` (q already checked).
+/// Computes `li_m_i` and `o_m_i` (q already checked); with `reuse`, `o_m_i` only, from the
+/// `li_m_i` a pass at the same q left (the joint trigonometry of one state runs once).
 #[inline]
-pub(crate) fn placements(model: &Model, data: &mut Data, q: &[f64]) {
+pub(crate) fn placements(model: &Model, data: &mut Data, q: &[f64], reuse: bool) {
     for (i, j) in model.joints.iter().enumerate() {
-        place_joint(j, i, data, q);
-    }
-}
-
-/// `o_m_i` from the `li_m_i` already in `data` (a pass at the same q computed them): the
-/// joint trigonometry of one state is then evaluated once.
-#[inline]
-pub(crate) fn compose_placements(model: &Model, data: &mut Data) {
-    for (i, j) in model.joints.iter().enumerate() {
-        data.o_m_i[i] = match j.parent {
-            Some(p) => data.o_m_i[p] * data.li_m_i[i],
-            None => data.li_m_i[i],
-        };
+        place_joint(j, i, data, q, reuse);
     }
 }
 
@@ -67,15 +56,21 @@ pub(crate) fn local_placement(
     }
 }
 
-/// `li_m_i` and `o_m_i` of joint `i` (its parent already placed).
+/// `li_m_i` and `o_m_i` of joint `i` (its parent already placed); with `reuse`, from the
+/// `li_m_i` already in `data` (see [`local_placement`]).
 #[inline]
-pub(crate) fn place_joint(j: &crate::joint::Joint, i: usize, data: &mut Data, q: &[f64]) {
-    let li = j.kind.placed_transform(&j.placement, &q[j.idx_q..]);
+pub(crate) fn place_joint(
+    j: &crate::joint::Joint,
+    i: usize,
+    data: &mut Data,
+    q: &[f64],
+    reuse: bool,
+) {
+    let li = local_placement(j, i, data, q, reuse);
     data.o_m_i[i] = match j.parent {
         Some(p) => data.o_m_i[p] * li,
         None => li,
     };
-    data.li_m_i[i] = li;
 }
 
 /// Placements, local velocities and accelerations; `None` stands for a zero vector. With
