@@ -50,7 +50,7 @@ pub use algorithms::cholesky::{
     solve_mass_matrix,
 };
 pub use algorithms::coriolis::coriolis_matrix;
-pub use algorithms::crba::crba;
+pub use algorithms::crba::{crba, crba_at_jacobians};
 pub use algorithms::energy::{kinetic_energy, potential_energy};
 pub use algorithms::jacobians::{
     compute_joint_jacobians, frame_acceleration, frame_classical_acceleration, frame_jacobian,

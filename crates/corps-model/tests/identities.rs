@@ -633,6 +633,25 @@ fn nonlinear_effects_at_placements_match_the_full_pass() {
     }
 }
 
+/// M from the Jacobians of a kinematic pass equals CRBA's, bit for bit (CRBA is that pass and
+/// the same composite recursion).
+#[test]
+fn mass_matrix_at_jacobians_matches_crba() {
+    for (name, model) in robots() {
+        let (mut a, mut b) = (Data::new(&model), Data::new(&model));
+        for s in 0..3 {
+            let (q, ..) = random_state(&model, 40 + s);
+            let full = crba(&model, &mut a, q.as_slice()).unwrap().clone();
+            compute_joint_jacobians(&model, &mut b, q.as_slice()).unwrap();
+            assert_eq!(
+                &full,
+                crba_at_jacobians(&model, &mut b),
+                "{name}, state {s}"
+            );
+        }
+    }
+}
+
 #[test]
 fn one_pass_drifts_match_the_separate_algorithms() {
     for (name, model) in robots() {

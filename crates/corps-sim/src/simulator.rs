@@ -243,6 +243,7 @@ impl Simulator {
         }
         self.pushes.push((push, joint, frame.placement));
         self.first_stage_valid = false;
+        self.implicit.prepared = false;
         Ok(())
     }
 
@@ -254,7 +255,7 @@ impl Simulator {
         self.v.copy_from_slice(v);
         self.anchors.iter_mut().for_each(|a| *a = Anchor::default());
         self.first_stage_valid = false;
-        self.implicit.terms_valid = false;
+        self.implicit.invalidate();
         Ok(())
     }
 
@@ -307,7 +308,7 @@ impl Simulator {
 
     /// Total mechanical energy (kinetic + potential) at the current state.
     pub fn energy(&mut self) -> Result<f64> {
-        self.implicit.terms_valid = false;
+        self.implicit.invalidate();
         let ke = corps_model::kinetic_energy(
             &self.model,
             &mut self.data,
@@ -316,6 +317,17 @@ impl Simulator {
         )?;
         let pe = corps_model::potential_energy(&self.model, &mut self.data, self.q.as_slice())?;
         Ok(ke + pe)
+    }
+
+    /// Does ahead the part of the next step that depends on the state alone (implicit Euler:
+    /// h(q, v), the contact pass and the factorization; other integrators: nothing), so a
+    /// caller can run it while its controller computes the command. [`Simulator::step`] does
+    /// it itself when it was not done; either way the step is bit-identical. Changes none of
+    /// the state, contact or sensor readings.
+    pub fn prepare_step(&mut self) {
+        if self.settings.integrator == Integrator::ImplicitEuler && !self.implicit.prepared {
+            self.prepare_implicit(self.settings.dt());
+        }
     }
 
     /// Advances one control period under `cmd`.

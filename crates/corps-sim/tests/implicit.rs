@@ -95,3 +95,63 @@ fn carried_model_terms_give_the_same_steps_as_recomputed_ones() {
     assert_eq!(carried.q(), recomputed.q());
     assert_eq!(carried.v(), recomputed.v());
 }
+
+/// `prepare_step` (the state-only part, done ahead, e.g. on another thread) leaves every
+/// reading alone and gives the same steps bit for bit: under a position hold (servo terms in
+/// A), after switching to torques (A redone for the new servo linearization), and with a push
+/// added between a preparation and its step (the preparation is dropped).
+#[test]
+fn prepared_steps_are_the_steps() {
+    let (mut prepared, q) = standing_talos_with(implicit_stiff());
+    let (mut plain, _) = standing_talos_with(implicit_stiff());
+    let model = prepared.model().clone();
+    let position = hold(&model, &q);
+    let mut torque = position.clone();
+    let push = Push {
+        frame: "base_link".into(),
+        start: 0.0,
+        duration: 0.02,
+        force: [80.0, -40.0, 0.0],
+        torque: [0.0; 3],
+    };
+    for k in 0..400 {
+        if k == 200 {
+            // The hold's last torques, as a torque command.
+            torque = Command::Torque(plain.applied_torques().rows(6, model.nv - 6).into_owned());
+        }
+        let cmd = &torque;
+        let readings = (
+            prepared.q().clone(),
+            prepared.v().clone(),
+            prepared.applied_torques().clone(),
+            prepared.contact().point_forces.clone(),
+            prepared.contact().point_positions.clone(),
+        );
+        prepared.prepare_step();
+        assert_eq!(prepared.q(), &readings.0);
+        assert_eq!(prepared.v(), &readings.1);
+        assert_eq!(prepared.applied_torques(), &readings.2);
+        assert_eq!(prepared.contact().point_forces, readings.3);
+        assert_eq!(prepared.contact().point_positions, readings.4);
+        if k == 250 {
+            let push = Push {
+                start: plain.time(),
+                ..push.clone()
+            };
+            prepared.add_push(push.clone()).unwrap();
+            plain.add_push(push).unwrap();
+        }
+        prepared.step(cmd).unwrap();
+        plain.step(cmd).unwrap();
+        assert_eq!(prepared.q(), plain.q(), "step {k}");
+        assert_eq!(prepared.v(), plain.v(), "step {k}");
+        assert_eq!(
+            prepared.contact().point_forces,
+            plain.contact().point_forces
+        );
+    }
+    assert!(
+        plain.contact().point_forces.iter().any(|f| f.z > 1.0),
+        "in contact"
+    );
+}

@@ -42,7 +42,11 @@ fn steps_without_allocating(settings: SimSettings) {
     sim.step(&cmd).unwrap(); // the first step stores the command
     sensors.update(&sim);
     let before = allocations();
-    for _ in 0..200 {
+    for k in 0..200 {
+        // Half the steps prepared ahead (as `corps run` does on its second thread).
+        if k % 2 == 0 {
+            sim.prepare_step();
+        }
         sim.step(&cmd).unwrap();
         sensors.update(&sim);
     }

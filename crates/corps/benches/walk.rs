@@ -5,11 +5,15 @@
 //! control tick, the metrics. The PNG plots are off (drawing them is output, not simulation;
 //! `tools/bench/walk_speed.py` times the whole `corps run` command with them).
 //!
-//! The anchor, measured in the same run: the same walk on the simulator setup the torque
-//! walks used before implicit Euler (4 RK4 substeps per tick on the same stiff contact).
+//! Measured in the same run: the walk as `corps run` steps it (the simulator prepares its next
+//! step on a second thread while the controller computes, `overlapped`), the same on one
+//! thread (`serial`, bit-identical results), and the anchor: the serial walk on the simulator
+//! setup the torque walks used before implicit Euler (4 RK4 substeps per tick on the same
+//! stiff contact).
 //!
 //! `cargo bench -p corps --bench walk`; real-time factor = 11.5 s / the median.
 
+use corps::run::RunOptions;
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::path::Path;
 use std::time::Duration;
@@ -45,13 +49,27 @@ fn walk(c: &mut Criterion) {
         .sample_size(10)
         .warm_up_time(Duration::from_secs(2))
         .measurement_time(Duration::from_secs(15));
-    for (label, rk4_anchor) in [("implicit_euler", false), ("anchor_rk4_x4", true)] {
+    let runs = [
+        ("implicit_euler_overlapped", false, true),
+        ("implicit_euler_serial", false, false),
+        ("anchor_rk4_x4", true, false),
+    ];
+    for (label, rk4_anchor, overlap) in runs {
         let text = scenario_text(rk4_anchor);
+        let options = RunOptions {
+            progress: false,
+            overlap,
+        };
         group.bench_function(label, |b| {
             b.iter(|| {
-                let report =
-                    corps::run::run_text(&text, Path::new(SCENARIO), Some(out.path()), None, false)
-                        .expect("the walk runs");
+                let report = corps::run::run_text(
+                    &text,
+                    Path::new(SCENARIO),
+                    Some(out.path()),
+                    None,
+                    options,
+                )
+                .expect("the walk runs");
                 assert_eq!(report.metrics.fallbacks, 0, "the controller fell back");
                 report
             })

@@ -2,7 +2,7 @@
 //! TALOS", Deliver 6): each runs its scenario file from `scenarios/control/` exactly as
 //! `corps run` does and asserts the issue's bound on the metrics the command prints.
 
-use corps::run::{run_file, Metrics};
+use corps::run::{run_file, Metrics, RunOptions};
 use std::path::PathBuf;
 
 fn run(name: &str) -> Metrics {
@@ -10,7 +10,7 @@ fn run(name: &str) -> Metrics {
         .join("../../scenarios/control")
         .join(format!("{name}.toml"));
     let out = tempfile::tempdir().unwrap();
-    let report = run_file(&path, Some(out.path()), None, false).unwrap();
+    let report = run_file(&path, Some(out.path()), None, RunOptions::quiet()).unwrap();
     let m = report.metrics;
     println!("{m}");
     for file in [

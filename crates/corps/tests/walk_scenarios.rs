@@ -3,7 +3,7 @@
 //! 0.6 m and nothing but the feet touches the ground — and the final base within 5 cm of the
 //! plan. Where the thesis gives a figure, the metrics must match or beat it.
 
-use corps::run::{run_file, Metrics};
+use corps::run::{run_file, Metrics, RunOptions};
 use std::path::PathBuf;
 
 fn walk(name: &str) -> Metrics {
@@ -11,7 +11,7 @@ fn walk(name: &str) -> Metrics {
         .join("../../scenarios/walk")
         .join(format!("{name}.toml"));
     let out = tempfile::tempdir().unwrap();
-    let m = run_file(&path, Some(out.path()), None, false)
+    let m = run_file(&path, Some(out.path()), None, RunOptions::quiet())
         .unwrap()
         .metrics;
     println!("{m}");

@@ -18,8 +18,15 @@ pub fn crba<'d>(model: &Model, data: &'d mut Data, q: &[f64]) -> Result<&'d DMat
     Ok(&data.m)
 }
 
-/// Forward: placements, world Jacobians, world body inertias; backward: composite inertias
-/// and, when `with_m`, the upper triangle of M mirrored to the lower. With
+/// M(q) from the placements and world Jacobians a pass at q left in `data` (e.g.
+/// [`crate::compute_joint_jacobians`]): the composite half of [`crba`], for callers that need
+/// the kinematics first and M later. Also leaves the composite inertias.
+pub fn crba_at_jacobians<'d>(model: &Model, data: &'d mut Data) -> &'d DMatrix<f64> {
+    composite_inertias(model, data, true);
+    &data.m
+}
+
+/// Forward: placements, world Jacobians; then [`composite_inertias`]. With
 /// `reuse_placements`, the joint placements are those a pass at the same q left in `data`.
 pub(crate) fn composite_pass(
     model: &Model,
@@ -31,6 +38,14 @@ pub(crate) fn composite_pass(
     placements(model, data, q, reuse_placements);
     for i in 0..model.njoints() {
         write_joint_columns(model, data, i);
+    }
+    composite_inertias(model, data, with_m);
+}
+
+/// World body inertias, then backward: composite inertias and, when `with_m`, the upper
+/// triangle of M mirrored to the lower (placements and Jacobian columns already in `data`).
+fn composite_inertias(model: &Model, data: &mut Data, with_m: bool) {
+    for i in 0..model.njoints() {
         data.composite[i] = model.inertias[i]
             .transformed(&data.o_m_i[i])
             .to_origin_form();

@@ -25,8 +25,8 @@ use crate::contact_pass::{contact_pass, PointVisit};
 use crate::error::Result;
 use corps_model::spatial::{Force, Motion};
 use corps_model::{
-    crba, factorize_branch_sparse, integrate_to, nonlinear_effects_at_placements,
-    solve_mass_matrix, world_motions_from_jacobians, Model,
+    compute_joint_jacobians, crba_at_jacobians, factorize_branch_sparse, integrate_to,
+    nonlinear_effects_at_placements, solve_mass_matrix, world_motions_from_jacobians, Data, Model,
 };
 use nalgebra::{DVector, Matrix3, Matrix6, Matrix6xX, Vector3, Vector6};
 
@@ -60,9 +60,17 @@ pub(super) struct ImplicitWork {
     active: Vec<ActivePoint>,
     chain: Vec<usize>,
     gain_cols: Matrix6xX<f64>,
-    /// Whether `data` holds M, the world Jacobians, placements and twists at the current
-    /// state (left by the last step; cleared when the state is set).
+    /// Next anchors and point positions of the prepared step, swapped in when it is taken.
+    next_anchors: Vec<Anchor>,
+    point_positions: Vec<Vector3<f64>>,
+    /// The servo linearization the factorized A holds.
+    factored_stiffness: Vec<f64>,
+    factored_damping: Vec<f64>,
+    /// Whether `data` holds the world Jacobians, placements and twists at the current state
+    /// (left by the last step; cleared when the state is set).
     pub(super) terms_valid: bool,
+    /// Whether the state-only part of the next step is done ([`Simulator::prepare_step`]).
+    pub(super) prepared: bool,
 }
 
 impl ImplicitWork {
@@ -81,7 +89,12 @@ impl ImplicitWork {
             active: Vec::with_capacity(n_points),
             chain: Vec::with_capacity(nv),
             gain_cols: Matrix6xX::zeros(nv),
+            next_anchors: vec![Anchor::default(); n_points],
+            point_positions: vec![Vector3::zeros(); n_points],
+            factored_stiffness: vec![0.0; na],
+            factored_damping: vec![0.0; na],
             terms_valid: false,
+            prepared: false,
         }
     }
 }
@@ -144,54 +157,83 @@ impl GainSums {
     }
 }
 
+impl ImplicitWork {
+    /// Forgets the terms left by the last step and any prepared step (the state or `data`
+    /// changed under them).
+    pub(super) fn invalidate(&mut self) {
+        self.terms_valid = false;
+        self.prepared = false;
+    }
+}
+
+/// `A = M + h D_q + h² K_q` into `data.ltdl`, factorized, for the servo linearization in
+/// `w.factored_stiffness`, `w.factored_damping` and the contact gains of the touched bodies.
+fn assemble_and_factor(model: &Model, data: &mut Data, w: &mut ImplicitWork, h: f64) {
+    let first = first_actuated(model);
+    data.ltdl.copy_from(&data.m);
+    let a = &mut data.ltdl;
+    let servos = w.factored_stiffness.iter().zip(&w.factored_damping);
+    for (k, (kp, kd)) in (first..model.nv).zip(servos) {
+        a[(k, k)] += h * kd + h * h * kp;
+    }
+    for b in 0..model.njoints() {
+        if !w.touched[b] {
+            continue;
+        }
+        chain_of(model, b, &mut w.chain);
+        let gain = w.body_gain[b].matrix();
+        for &c in &w.chain {
+            w.gain_cols.set_column(c, &(gain * col6(&data.j, c)));
+        }
+        for &r in &w.chain {
+            let jr = col6(&data.j, r);
+            for &c in &w.chain {
+                a[(r, c)] += jr.dot(&w.gain_cols.column(c));
+            }
+        }
+    }
+    let _ = factorize_branch_sparse(model, a); // data.ltdl is nv × nv
+}
+
 impl Simulator {
-    /// One linearly implicit Euler step of length `h` under `cmd`; records the contact
-    /// forces and leaves placements, twists and accelerations of the new state in `data`.
-    pub(super) fn implicit_euler(&mut self, cmd: &Command, h: f64) -> Result<()> {
+    /// The part of an implicit step of length `h` that depends on the state alone: h(q, v),
+    /// the contact pass (explicit wrenches f₀ − h K v_p and implicit gains h (D + h K) per
+    /// body) and the factorization of A, with the servo linearization of the last step (the
+    /// step redoes A if the command's differs). Writes only work buffers and `data`'s terms;
+    /// the contact state and the anchors change when the step is taken.
+    pub(super) fn prepare_implicit(&mut self, h: f64) {
         let model = &*self.model;
         let (q, v) = (self.q.as_slice(), self.v.as_slice());
         let w = &mut self.implicit;
-        let first = first_actuated(model);
-        self.actuators
-            .torques(model, cmd, q, v, self.tau.as_mut_slice());
-        self.actuators.linearization(
-            model,
-            cmd,
-            self.tau.as_slice(),
-            &mut w.servo_stiffness,
-            &mut w.servo_damping,
-        );
-        // Checked sizes: none of these calls can fail. M, the world Jacobians, placements and
-        // twists at (q, v) are left by the previous step unless the state was set since; h
-        // reuses the joint placements of that CRBA pass.
+        // Checked sizes: none of these calls can fail. The world Jacobians, placements and
+        // twists at (q, v) are left by the previous step unless the state was set since; M
+        // and h reuse them.
         if !w.terms_valid {
-            let _ = crba(model, &mut self.data, q);
+            let _ = compute_joint_jacobians(model, &mut self.data, q);
             let _ = world_motions_from_jacobians(model, &mut self.data, v, w.zeros.as_slice());
+            w.terms_valid = true;
         }
+        crba_at_jacobians(model, &mut self.data);
         let _ = nonlinear_effects_at_placements(model, &mut self.data, v);
 
-        // Contact: explicit wrenches f₀ − h K v_p and implicit gains h (D + h K) per body.
         w.body_gain
             .iter_mut()
             .for_each(|g| *g = GainSums::default());
         w.body_wrench.iter_mut().for_each(|f| *f = Force::zero());
         w.touched.iter_mut().for_each(|t| *t = false);
         w.active.clear();
-        let contact = &mut self.contact;
-        contact
-            .body_wrenches
-            .iter_mut()
-            .for_each(|f| *f = Force::zero());
         let (params, points, ov) = (&self.settings.contact, &self.points, &self.data.ov);
+        let (positions, next_anchors) = (&mut w.point_positions, &mut w.next_anchors);
+        let (body_gain, body_wrench) = (&mut w.body_gain, &mut w.body_wrench);
+        let (touched, active) = (&mut w.touched, &mut w.active);
         let visit = |pt: PointVisit| {
             let k = pt.index;
-            contact.point_positions[k] = pt.position;
-            contact.point_forces[k] = Vector3::zeros();
+            positions[k] = pt.position;
             let Some(pf) = pt.force else {
-                *pt.anchor = Anchor::default();
+                next_anchors[k] = Anchor::default();
                 return;
             };
-            *pt.anchor = pf.next_anchor;
+            next_anchors[k] = pf.next_anchor;
             if pf.normal_force <= 0.0 {
                 return;
             }
@@ -200,10 +242,10 @@ impl Simulator {
             let force = pf.force - lin.stiffness_times(&pf.velocity) * h;
             let normal_gain = lin.normal_damping + h * lin.normal_stiffness;
             let tangential_gain = lin.tangential_damping + h * lin.tangential_stiffness;
-            w.body_gain[pt.joint].add(&lin.normal, h * normal_gain, h * tangential_gain, &p);
-            w.body_wrench[pt.joint] += Force::new(force, p.cross(&force));
-            w.touched[pt.joint] = true;
-            w.active.push(ActivePoint {
+            body_gain[pt.joint].add(&lin.normal, h * normal_gain, h * tangential_gain, &p);
+            body_wrench[pt.joint] += Force::new(force, p.cross(&force));
+            touched[pt.joint] = true;
+            active.push(ActivePoint {
                 index: k,
                 joint: pt.joint,
                 position: p,
@@ -230,17 +272,41 @@ impl Simulator {
                 w.touched[*joint] = true;
             }
         }
+        assemble_and_factor(model, &mut self.data, w, h);
+        w.prepared = true;
+    }
 
-        // A = M + h D_q + h² K_q in data.ltdl; rhs = h (τ − h(q, v) + Σ Jᵀ w) − h² K_servo v.
+    /// One linearly implicit Euler step of length `h` under `cmd`; records the contact
+    /// forces and leaves placements, twists and accelerations of the new state in `data`.
+    pub(super) fn implicit_euler(&mut self, cmd: &Command, h: f64) -> Result<()> {
+        if !self.implicit.prepared {
+            self.prepare_implicit(h);
+        }
+        let model = &*self.model;
+        let (q, v) = (self.q.as_slice(), self.v.as_slice());
+        let w = &mut self.implicit;
+        let first = first_actuated(model);
+        self.actuators
+            .torques(model, cmd, q, v, self.tau.as_mut_slice());
+        self.actuators.linearization(
+            model,
+            cmd,
+            self.tau.as_slice(),
+            &mut w.servo_stiffness,
+            &mut w.servo_damping,
+        );
         let data = &mut self.data;
-        data.ltdl.copy_from(&data.m);
-        let a = &mut data.ltdl;
+        if w.servo_stiffness != w.factored_stiffness || w.servo_damping != w.factored_damping {
+            w.factored_stiffness.copy_from_slice(&w.servo_stiffness);
+            w.factored_damping.copy_from_slice(&w.servo_damping);
+            assemble_and_factor(model, data, w, h);
+        }
+
+        // rhs = h (τ − h(q, v) + Σ Jᵀ w) − h² K_servo v.
         for k in 0..model.nv {
             w.rhs[k] = h * (self.tau[k] - data.nle[k]);
         }
-        let servos = w.servo_stiffness.iter().zip(&w.servo_damping);
-        for ((k, vk), (kp, kd)) in v.iter().enumerate().skip(first).zip(servos) {
-            a[(k, k)] += h * kd + h * h * kp;
+        for ((vk, kp), k) in v[first..].iter().zip(&w.servo_stiffness).zip(first..) {
             w.rhs[k] -= h * h * kp * vk;
         }
         for b in 0..model.njoints() {
@@ -249,24 +315,20 @@ impl Simulator {
             }
             chain_of(model, b, &mut w.chain);
             let wrench = w.body_wrench[b].to_vector();
-            let gain = w.body_gain[b].matrix();
             for &c in &w.chain {
-                let jc = col6(&data.j, c);
-                w.rhs[c] += h * jc.dot(&wrench);
-                w.gain_cols.set_column(c, &(gain * jc));
-            }
-            for &r in &w.chain {
-                let jr = col6(&data.j, r);
-                for &c in &w.chain {
-                    a[(r, c)] += jr.dot(&w.gain_cols.column(c));
-                }
+                w.rhs[c] += h * col6(&data.j, c).dot(&wrench);
             }
         }
-        let _ = factorize_branch_sparse(model, a); // data.ltdl is nv × nv
-        solve_mass_matrix(model, a, w.rhs.as_mut_slice());
+        solve_mass_matrix(model, &data.ltdl, w.rhs.as_mut_slice());
         let dv = &w.rhs;
 
-        // The contact forces that produced Δv: f = f₀ − h K v_p − (D + h K) Δv_p.
+        // The step is taken: the anchors move, and the contact forces are those that
+        // produced Δv: f = f₀ − h K v_p − (D + h K) Δv_p.
+        std::mem::swap(&mut self.anchors, &mut w.next_anchors);
+        let contact = &mut self.contact;
+        std::mem::swap(&mut contact.point_positions, &mut w.point_positions);
+        contact.point_forces.fill(Vector3::zeros());
+        contact.body_wrenches.fill(Force::zero());
         for b in 0..model.njoints() {
             if !w.touched[b] {
                 continue;
@@ -308,7 +370,7 @@ impl Simulator {
         );
         self.q.copy_from(&scratch.qs);
         corps_model::normalize(model, self.q.as_mut_slice());
-        let _ = crba(model, data, self.q.as_slice());
+        let _ = compute_joint_jacobians(model, data, self.q.as_slice());
         let _ = world_motions_from_jacobians(
             model,
             data,
@@ -316,6 +378,7 @@ impl Simulator {
             self.acceleration.as_slice(),
         );
         w.terms_valid = true;
+        w.prepared = false;
         self.first_stage_valid = false;
         self.check_state(self.t + h)
     }

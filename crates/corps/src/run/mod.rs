@@ -25,6 +25,7 @@ mod gait;
 mod metrics;
 pub mod motion;
 mod plots;
+mod stepper;
 pub mod walk;
 
 pub use controller::{ControllerKind, WholeBodyController};
@@ -48,6 +49,7 @@ use serde::Deserialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use stepper::Stepper;
 
 /// Standard gravity of the run's LIPM references (ZMP, walking) and cost of transport (m/s²).
 pub(crate) const GRAVITY: f64 = 9.81;
@@ -97,11 +99,52 @@ pub struct RunArgs {
     /// Control this many seconds instead of the scenario's `duration`.
     #[arg(long, value_name = "SECONDS")]
     duration: Option<f64>,
+    /// Run everything on one thread (by default, on a machine with two cores or more, the
+    /// simulator prepares its next step on a second thread while the controller computes;
+    /// the results are bit-identical).
+    #[arg(long)]
+    serial: bool,
+}
+
+/// How a run executes (never what it computes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RunOptions {
+    /// A progress bar on a terminal.
+    pub progress: bool,
+    /// The simulator prepares its next step on a second thread while the controller
+    /// computes (bit-identical to the serial run; the second thread keeps a core busy).
+    pub overlap: bool,
+}
+
+impl RunOptions {
+    /// No progress bar, one thread: for tests and tools that run several scenarios at once.
+    pub fn quiet() -> Self {
+        Self {
+            progress: false,
+            overlap: false,
+        }
+    }
+
+    /// What `corps run` does: a progress bar, and the overlap when the machine has two cores
+    /// or more.
+    pub fn interactive() -> Self {
+        Self {
+            progress: true,
+            overlap: std::thread::available_parallelism().is_ok_and(|n| n.get() >= 2),
+        }
+    }
 }
 
 /// Runs `corps run`.
 pub fn run(args: RunArgs) -> Result<()> {
-    let report = run_file(&args.scenario, args.output.as_deref(), args.duration, true)?;
+    let mut options = RunOptions::interactive();
+    options.overlap &= !args.serial;
+    let report = run_file(
+        &args.scenario,
+        args.output.as_deref(),
+        args.duration,
+        options,
+    )?;
     print_report(&report)
 }
 
@@ -128,15 +171,15 @@ pub struct RunReport {
 }
 
 /// Reads, runs and records the scenario at `path`. `output` replaces the output directory,
-/// `duration` the controlled time; `progress` shows a progress bar on a terminal.
+/// `duration` the controlled time.
 pub fn run_file(
     path: &Path,
     output: Option<&Path>,
     duration: Option<f64>,
-    progress: bool,
+    options: RunOptions,
 ) -> Result<RunReport> {
     let text = crate::sim_cmd::read_scenario(path)?;
-    run_text(&text, path, output, duration, progress)
+    run_text(&text, path, output, duration, options)
 }
 
 /// The main job (`corps` without arguments): TALOS walks 6 × 20 cm plus a closing step
@@ -150,7 +193,7 @@ pub fn run_main_job() -> Result<()> {
         Path::new("tsid_torque_20cm.toml"),
         None,
         None,
-        true,
+        RunOptions::interactive(),
     )?;
     print_report(&report)
 }
@@ -161,7 +204,7 @@ pub fn run_text(
     path: &Path,
     output: Option<&Path>,
     duration: Option<f64>,
-    progress: bool,
+    options: RunOptions,
 ) -> Result<RunReport> {
     let shown = path.display();
     let mut scenario = Scenario::parse(text).map_err(|e| anyhow!("{shown}: {e}"))?;
@@ -176,7 +219,7 @@ pub fn run_text(
         .map(Path::to_path_buf)
         .or_else(|| scenario.output.directory.clone())
         .unwrap_or_else(|| PathBuf::from("out").join(&name));
-    run_scenario(&scenario, &name, base_dir, &dir, progress).map_err(|e| anyhow!("{shown}: {e:#}"))
+    run_scenario(&scenario, &name, base_dir, &dir, options).map_err(|e| anyhow!("{shown}: {e:#}"))
 }
 
 /// Per-tick series kept for the plots and the log.
@@ -242,7 +285,7 @@ pub fn run_scenario(
     name: &str,
     base_dir: &Path,
     dir: &Path,
-    progress: bool,
+    options: RunOptions,
 ) -> Result<RunReport> {
     let Some(section) = &scenario.controller else {
         bail!("no [controller] section: this is a `corps sim` scenario");
@@ -357,67 +400,82 @@ pub fn run_scenario(
         [ankle("leg_right_5_joint")?, ankle("leg_right_6_joint")?],
     ];
     let mut tick_us = Vec::with_capacity(ticks);
-    let bar = if progress {
+    let bar = if options.progress {
         crate::sim_cmd::progress_bar(ticks)
     } else {
         indicatif::ProgressBar::hidden()
     };
-    for tick in 0..ticks {
-        let t = tick as f64 * dt;
-        plan.sample(t, &mut targets);
-        let (q, v) = (sim.q().as_slice(), sim.v().as_slice());
-        // What the sensors tell: CoM (base estimator), soles, contact wrenches (F/T).
-        let (com, com_velocity, placements) = com_and_soles(&sim, &soles)?;
-        let contact = measure_contacts(&sim, &foot_joints, &placements);
-        let measured = Measured {
-            com,
-            com_velocity,
-            zmp: contact.zmp.map(|[x, y]| nalgebra::Vector2::new(x, y)),
-            feet: placements.map(|p| isometry(&p)),
-            foot_wrenches: contact.foot_wrenches,
-        };
-        let start = Instant::now();
-        let reason = ctrl.tick(t, q, v, &targets, &measured);
-        let us = start.elapsed().as_secs_f64() * 1e6;
-        tick_us.push(us);
-        if stabilized {
-            series.stabilizer.push(ctrl.stabilizer_output(), &contact);
-        }
-        if let Some(r) = reason {
-            m.fallbacks += 1;
-            m.first_fallback
-                .get_or_insert_with(|| format!("t = {t:.3} s: {r}"));
-        }
-        let feet = placements.map(|p| p.translation);
-        record(
-            &mut m,
-            &mut series,
-            Sample {
-                t,
-                base: Vector3::new(q[0], q[1], q[2]),
-                base0,
+    // The controller reads the state from these copies while the simulator prepares its
+    // next step.
+    let (mut q, mut v) = (q, v);
+    let shared = stepper::Shared::new(sim);
+    std::thread::scope(|scope| -> Result<()> {
+        let mut stepper = Stepper::new(scope, &shared, options.overlap);
+        for tick in 0..ticks {
+            let t = tick as f64 * dt;
+            plan.sample(t, &mut targets);
+            // What the sensors tell: CoM (base estimator), soles, contact wrenches (F/T).
+            let (com, com_velocity, placements, contact) = {
+                let sim = stepper.sim()?;
+                q.copy_from(sim.q());
+                v.copy_from(sim.v());
+                let (com, com_velocity, placements) = com_and_soles(&sim, &soles)?;
+                let contact = measure_contacts(&sim, &foot_joints, &placements);
+                let (w, w_pos) = work(&sim, &model, dt);
+                m.work += w;
+                m.positive_work += w_pos;
+                pgm.push(
+                    sim.applied_torques().as_slice(),
+                    &ankles,
+                    [targets.feet[0].supporting, targets.feet[1].supporting],
+                );
+                (com, com_velocity, placements, contact)
+            };
+            stepper.prepare();
+            let measured = Measured {
                 com,
-                feet,
-                targets: &targets,
-                contact: &contact,
-                tick_us: us,
-            },
-            &mut contact_start,
-        );
-        let (w, w_pos) = work(&sim, &model, dt);
-        m.work += w;
-        m.positive_work += w_pos;
-        pgm.push(
-            sim.applied_torques().as_slice(),
-            &ankles,
-            [targets.feet[0].supporting, targets.feet[1].supporting],
-        );
-        sim.step(ctrl.command())?;
-        if tick % 50 == 0 {
-            bar.set_position(tick as u64);
-            bar.set_message(format!("t = {t:.2} s"));
+                com_velocity,
+                zmp: contact.zmp.map(|[x, y]| nalgebra::Vector2::new(x, y)),
+                feet: placements.map(|p| isometry(&p)),
+                foot_wrenches: contact.foot_wrenches,
+            };
+            let start = Instant::now();
+            let reason = ctrl.tick(t, q.as_slice(), v.as_slice(), &targets, &measured);
+            let us = start.elapsed().as_secs_f64() * 1e6;
+            tick_us.push(us);
+            if stabilized {
+                series.stabilizer.push(ctrl.stabilizer_output(), &contact);
+            }
+            if let Some(r) = reason {
+                m.fallbacks += 1;
+                m.first_fallback
+                    .get_or_insert_with(|| format!("t = {t:.3} s: {r}"));
+            }
+            let feet = placements.map(|p| p.translation);
+            record(
+                &mut m,
+                &mut series,
+                Sample {
+                    t,
+                    base: Vector3::new(q[0], q[1], q[2]),
+                    base0,
+                    com,
+                    feet,
+                    targets: &targets,
+                    contact: &contact,
+                    tick_us: us,
+                },
+                &mut contact_start,
+            );
+            stepper.step(ctrl.command())?;
+            if tick % 50 == 0 {
+                bar.set_position(tick as u64);
+                bar.set_message(format!("t = {t:.2} s"));
+            }
         }
-    }
+        Ok(())
+    })?;
+    let sim = shared.into_inner()?;
     bar.finish_and_clear();
     m.tick_time = TickTime::from_samples(&mut tick_us);
     m.thesis = scenario.thesis.clone();
