@@ -2,7 +2,9 @@
 """Real-time factor of whole walks in the simulator, with control at 1 kHz.
 
 Times `corps run` on a walk scenario (wall clock of the whole command: planning, simulation,
-control, log, metrics and plots) in alternating rounds with an anchor: the same scenario on
+control, log, metrics and plots; by default the simulator prepares its next step on a second
+thread while the controller computes) in alternating rounds with the same on one thread
+(`--serial`) and with an anchor (serial): the same scenario on
 the simulator setup the torque walks used before implicit Euler (4 RK4 substeps per tick on
 the same stiff contact). The machine is shared and its speed drifts by up to 2x over
 minutes, so both see the same load; the table gives medians over rounds, the range, and the
@@ -46,9 +48,9 @@ def simulated_seconds(path: pathlib.Path) -> float:
     return s["duration"] + settle
 
 
-def wall(scenario: pathlib.Path, out: pathlib.Path) -> float:
+def wall(scenario: pathlib.Path, out: pathlib.Path, *flags: str) -> float:
     t = time.perf_counter()
-    subprocess.run([str(BIN), "run", str(scenario), "-o", str(out)], check=True,
+    subprocess.run([str(BIN), "run", str(scenario), "-o", str(out), *flags], check=True,
                    stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, cwd=ROOT)
     return time.perf_counter() - t
 
@@ -61,22 +63,27 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         tmp = pathlib.Path(tmp)
         print("| walk | simulated | wall median (range) | real-time factor | "
-              "anchor: 4 RK4 substeps, wall median | speed-up |")
-        print("|---|---:|---:|---:|---:|---:|")
+              "`--serial`: wall median (range), real-time factor | "
+              "anchor: 4 RK4 substeps, `--serial`, wall median | speed-up |")
+        print("|---|---:|---:|---:|---:|---:|---:|")
         for name in args.scenarios:
             path = ROOT / name
             anchor = rk4_variant(path)
             sim_s = simulated_seconds(path)
-            ours, theirs = [], []
+            ours, serial, theirs = [], [], []
             try:
                 for _ in range(args.rounds):
                     ours.append(wall(path, tmp / "ours"))
-                    theirs.append(wall(anchor, tmp / "anchor"))
+                    serial.append(wall(path, tmp / "serial", "--serial"))
+                    theirs.append(wall(anchor, tmp / "anchor", "--serial"))
             finally:
                 anchor.unlink()
             mo, ma = statistics.median(ours), statistics.median(theirs)
+            ms = statistics.median(serial)
             print(f"| {path.stem} | {sim_s:.1f} s | {mo:.2f} s ({min(ours):.2f}–{max(ours):.2f}) "
-                  f"| {sim_s / mo:.1f}× | {ma:.2f} s | {ma / mo:.1f}× |", flush=True)
+                  f"| {sim_s / mo:.1f}× "
+                  f"| {ms:.2f} s ({min(serial):.2f}–{max(serial):.2f}), {sim_s / ms:.1f}× "
+                  f"| {ma:.2f} s | {ma / mo:.1f}× |", flush=True)
 
 
 if __name__ == "__main__":
