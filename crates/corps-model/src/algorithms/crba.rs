@@ -3,8 +3,7 @@
 //! (kept in origin form, [`crate::spatial::OriginInertia`]):
 //! `M[i, subtree(i)] = J_iᵀ (Yc_j J_j)` for every j in the subtree of i.
 
-use super::jacobians::write_joint_columns;
-use super::kinematics::placements;
+use super::jacobians::joint_jacobians_pass;
 use crate::data::{col_motion, set_col, Data};
 use crate::error::Result;
 use crate::model::Model;
@@ -35,10 +34,7 @@ pub(crate) fn composite_pass(
     with_m: bool,
     reuse_placements: bool,
 ) {
-    placements(model, data, q, reuse_placements);
-    for i in 0..model.njoints() {
-        write_joint_columns(model, data, i);
-    }
+    joint_jacobians_pass(model, data, q, reuse_placements);
     composite_inertias(model, data, with_m);
 }
 

@@ -70,11 +70,17 @@ pub fn compute_joint_jacobians<'d>(
     q: &[f64],
 ) -> Result<&'d Matrix6xX<f64>> {
     model.check_configuration(q)?;
-    placements(model, data, q, false);
+    joint_jacobians_pass(model, data, q, false);
+    Ok(&data.j)
+}
+
+/// Placements and world Jacobian columns of every joint (q already checked); with `reuse`,
+/// from the local placements a pass at the same q left (see `kinematics::local_placement`).
+pub(crate) fn joint_jacobians_pass(model: &Model, data: &mut Data, q: &[f64], reuse: bool) {
+    placements(model, data, q, reuse);
     for i in 0..model.njoints() {
         write_joint_columns(model, data, i);
     }
-    Ok(&data.j)
 }
 
 /// World twists `data.ov` and world accelerations `data.oa` of every joint (spatial, at the

@@ -97,16 +97,34 @@ impl ImplicitWork {
             prepared: false,
         }
     }
+
+    /// Forgets the terms left by the last step and any prepared step (the state or `data`
+    /// changed under them).
+    pub(super) fn invalidate(&mut self) {
+        self.terms_valid = false;
+        self.prepared = false;
+    }
 }
 
-/// The dofs that move body `joint` (its own and its ancestors'), deepest first.
-fn chain_of(model: &Model, joint: usize, out: &mut Vec<usize>) {
-    out.clear();
-    let j = &model.joints[joint];
-    if j.nv() > 0 {
-        let last = j.idx_v + j.nv() - 1;
-        out.push(last);
-        out.extend_from_slice(model.dof_ancestors(last));
+/// Calls `f(b, chain)` for every body `b` with `touched[b]`, `chain` being the dofs that move
+/// it (its own and its ancestors', deepest first), gathered in the `scratch` buffer.
+fn for_each_touched(
+    model: &Model,
+    touched: &[bool],
+    scratch: &mut Vec<usize>,
+    mut f: impl FnMut(usize, &[usize]),
+) {
+    for (b, j) in model.joints.iter().enumerate() {
+        if !touched[b] {
+            continue;
+        }
+        scratch.clear();
+        if j.nv() > 0 {
+            let last = j.idx_v + j.nv() - 1;
+            scratch.push(last);
+            scratch.extend_from_slice(model.dof_ancestors(last));
+        }
+        f(b, scratch);
     }
 }
 
@@ -157,15 +175,6 @@ impl GainSums {
     }
 }
 
-impl ImplicitWork {
-    /// Forgets the terms left by the last step and any prepared step (the state or `data`
-    /// changed under them).
-    pub(super) fn invalidate(&mut self) {
-        self.terms_valid = false;
-        self.prepared = false;
-    }
-}
-
 /// `A = M + h D_q + h² K_q` into `data.ltdl`, factorized, for the servo linearization in
 /// `w.factored_stiffness`, `w.factored_damping` and the contact gains of the touched bodies.
 fn assemble_and_factor(model: &Model, data: &mut Data, w: &mut ImplicitWork, h: f64) {
@@ -176,22 +185,19 @@ fn assemble_and_factor(model: &Model, data: &mut Data, w: &mut ImplicitWork, h: 
     for (k, (kp, kd)) in (first..model.nv).zip(servos) {
         a[(k, k)] += h * kd + h * h * kp;
     }
-    for b in 0..model.njoints() {
-        if !w.touched[b] {
-            continue;
+    let (body_gain, gain_cols, j) = (&w.body_gain, &mut w.gain_cols, &data.j);
+    for_each_touched(model, &w.touched, &mut w.chain, |b, chain| {
+        let gain = body_gain[b].matrix();
+        for &c in chain {
+            gain_cols.set_column(c, &(gain * col6(j, c)));
         }
-        chain_of(model, b, &mut w.chain);
-        let gain = w.body_gain[b].matrix();
-        for &c in &w.chain {
-            w.gain_cols.set_column(c, &(gain * col6(&data.j, c)));
-        }
-        for &r in &w.chain {
-            let jr = col6(&data.j, r);
-            for &c in &w.chain {
-                a[(r, c)] += jr.dot(&w.gain_cols.column(c));
+        for &r in chain {
+            let jr = col6(j, r);
+            for &c in chain {
+                a[(r, c)] += jr.dot(&gain_cols.column(c));
             }
         }
-    }
+    });
     let _ = factorize_branch_sparse(model, a); // data.ltdl is nv × nv
 }
 
@@ -309,16 +315,13 @@ impl Simulator {
         for ((vk, kp), k) in v[first..].iter().zip(&w.servo_stiffness).zip(first..) {
             w.rhs[k] -= h * h * kp * vk;
         }
-        for b in 0..model.njoints() {
-            if !w.touched[b] {
-                continue;
+        let (body_wrench, rhs) = (&w.body_wrench, &mut w.rhs);
+        for_each_touched(model, &w.touched, &mut w.chain, |b, chain| {
+            let wrench = body_wrench[b].to_vector();
+            for &c in chain {
+                rhs[c] += h * col6(&data.j, c).dot(&wrench);
             }
-            chain_of(model, b, &mut w.chain);
-            let wrench = w.body_wrench[b].to_vector();
-            for &c in &w.chain {
-                w.rhs[c] += h * col6(&data.j, c).dot(&wrench);
-            }
-        }
+        });
         solve_mass_matrix(model, &data.ltdl, w.rhs.as_mut_slice());
         let dv = &w.rhs;
 
@@ -329,17 +332,14 @@ impl Simulator {
         std::mem::swap(&mut contact.point_positions, &mut w.point_positions);
         contact.point_forces.fill(Vector3::zeros());
         contact.body_wrenches.fill(Force::zero());
-        for b in 0..model.njoints() {
-            if !w.touched[b] {
-                continue;
-            }
-            chain_of(model, b, &mut w.chain);
+        let body_dtwist = &mut w.body_dtwist;
+        for_each_touched(model, &w.touched, &mut w.chain, |b, chain| {
             let mut twist = Vector6::zeros();
-            for &c in &w.chain {
+            for &c in chain {
                 twist += col6(&data.j, c) * dv[c];
             }
-            w.body_dtwist[b] = Motion::from_vector(&twist);
-        }
+            body_dtwist[b] = Motion::from_vector(&twist);
+        });
         for a in &w.active {
             let dv_p = w.body_dtwist[a.joint].point_velocity(&a.position);
             let f = a.force - split_times(&a.normal, a.normal_gain, a.tangential_gain, &dv_p);
