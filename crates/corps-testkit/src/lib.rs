@@ -59,3 +59,47 @@ pub fn assert_close(what: &str, a: &[f64], b: &[f64], tol: f64) {
         "{what}: max error {err:.3e} > {tol:.1e} × scale {scale:.3e}"
     );
 }
+
+/// A global allocator that tracks the bytes alive on the heap, across all threads, and their
+/// peak: for tests that memory does not grow with a run's length. Install it in a test binary
+/// of its own (its figures are global).
+pub struct PeakAllocator;
+
+static LIVE: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+static PEAK: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+fn grew(bytes: usize) {
+    use std::sync::atomic::Ordering::Relaxed;
+    let now = LIVE.fetch_add(bytes, Relaxed) + bytes;
+    PEAK.fetch_max(now, Relaxed);
+}
+
+unsafe impl GlobalAlloc for PeakAllocator {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        let p = System.alloc(l);
+        if !p.is_null() {
+            grew(l.size());
+        }
+        p
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        LIVE.fetch_sub(l.size(), std::sync::atomic::Ordering::Relaxed);
+        System.dealloc(p, l)
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        let q = System.realloc(p, l, n);
+        if !q.is_null() {
+            LIVE.fetch_sub(l.size(), std::sync::atomic::Ordering::Relaxed);
+            grew(n);
+        }
+        q
+    }
+}
+
+/// The peak of the heap bytes alive while running `f` (with [`PeakAllocator`] installed).
+pub fn peak_heap_during<T>(f: impl FnOnce() -> T) -> (T, usize) {
+    use std::sync::atomic::Ordering::Relaxed;
+    PEAK.store(LIVE.load(Relaxed), Relaxed);
+    let out = f();
+    (out, PEAK.load(Relaxed))
+}

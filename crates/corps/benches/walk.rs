@@ -5,15 +5,16 @@
 //! control tick, the metrics. The PNG plots are off (drawing them is output, not simulation;
 //! `tools/bench/walk_speed.py` times the whole `corps run` command with them).
 //!
-//! Measured in the same run: the walk as `corps run` steps it (the simulator prepares its next
-//! step on a second thread while the controller computes, `overlapped`), the same on one
-//! thread (`serial`, bit-identical results), and the anchor: the serial walk on the simulator
-//! setup the torque walks used before implicit Euler (4 RK4 substeps per tick on the same
-//! stiff contact).
+//! Measured in the same run: the walk as `corps run` steps it (`adaptive`: the simulator
+//! prepares its next step on a second thread while the controller computes, as long as the
+//! run's own tick times show that it gains), the same overlapping every tick (`always`), on
+//! one thread (`serial`; all three bit-identical), and the anchor: the serial walk on the
+//! simulator setup the torque walks used before implicit Euler (4 RK4 substeps per tick on the
+//! same stiff contact).
 //!
 //! `cargo bench -p corps --bench walk`; real-time factor = 11.5 s / the median.
 
-use corps::run::RunOptions;
+use corps::run::{Overlap, RunOptions};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::path::Path;
 use std::time::Duration;
@@ -50,15 +51,16 @@ fn walk(c: &mut Criterion) {
         .warm_up_time(Duration::from_secs(2))
         .measurement_time(Duration::from_secs(15));
     let runs = [
-        ("implicit_euler_overlapped", false, true),
-        ("implicit_euler_serial", false, false),
-        ("anchor_rk4_x4", true, false),
+        ("implicit_euler_adaptive", false, Overlap::Adaptive),
+        ("implicit_euler_always", false, Overlap::Always),
+        ("implicit_euler_serial", false, Overlap::Never),
+        ("anchor_rk4_x4", true, Overlap::Never),
     ];
     for (label, rk4_anchor, overlap) in runs {
         let text = scenario_text(rk4_anchor);
         let options = RunOptions {
-            progress: false,
             overlap,
+            ..RunOptions::quiet()
         };
         group.bench_function(label, |b| {
             b.iter(|| {

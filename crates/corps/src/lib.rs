@@ -3,5 +3,7 @@
 //! command runs.
 
 pub mod default_robot;
+pub mod output;
+pub mod progress;
 pub mod run;
 pub mod sim_cmd;

@@ -1,7 +1,7 @@
 //! `corps run` overlaps the simulator's next-step preparation with the controller on a second
 //! thread; the run must be the serial run, bit for bit (every logged signal but the tick time).
 
-use corps::run::{run_file, RunOptions};
+use corps::run::{run_file, Overlap, RunOptions};
 use std::path::{Path, PathBuf};
 
 /// The log without its last column (`tick_us`, wall-clock time).
@@ -18,23 +18,32 @@ fn signals(dir: &Path) -> Vec<String> {
 fn overlapped_walk_is_the_serial_walk() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenarios/walk/tsid_torque_20cm.toml");
-    let run = |overlap: bool| {
+    let run = |overlap: Overlap| {
         let out = tempfile::tempdir().unwrap();
         let options = RunOptions {
-            progress: false,
             overlap,
+            ..RunOptions::quiet()
         };
         let m = run_file(&path, Some(out.path()), Some(3.0), options)
             .unwrap()
             .metrics;
         (signals(out.path()), m)
     };
-    let (serial, ms) = run(false);
-    let (overlapped, mo) = run(true);
-    assert!(serial.len() > 100, "{} log rows", serial.len());
-    assert_eq!(serial, overlapped);
+    let (serial, ms) = run(Overlap::Never);
     let w = |m: &corps::run::Metrics| m.walk.as_ref().map(|w| (w.distance, w.cost_of_transport));
-    assert_eq!(w(&ms), w(&mo));
+    // Every tick overlapped, and the adaptive schedule, which switches between the two.
+    for overlap in [Overlap::Always, Overlap::Adaptive] {
+        let (overlapped, mo) = run(overlap);
+        assert!(serial.len() > 100, "{} log rows", serial.len());
+        assert_eq!(serial, overlapped, "{overlap:?}");
+        assert_eq!(w(&ms), w(&mo), "{overlap:?}");
+        if overlap == Overlap::Always {
+            assert_eq!(mo.overlapped_ticks, 3000);
+        } else {
+            // The first probe overlaps three windows of 200 ticks, whatever wins.
+            assert!(mo.overlapped_ticks >= 600, "{}", mo.overlapped_ticks);
+        }
+    }
     let d = ms.walk.as_ref().unwrap().distance;
     assert!(d > 0.05, "the robot walked {d:.3} m");
 }

@@ -24,16 +24,22 @@ pub mod gains;
 mod gait;
 mod metrics;
 pub mod motion;
+mod overlap;
+mod plot_buffer;
 mod plots;
 mod stepper;
 pub mod walk;
 
 pub use controller::{ControllerKind, WholeBodyController};
 pub use metrics::{
-    DynamicFilterMetrics, FootMetrics, Metrics, Stat, ThesisFigures, TickTime, WalkMetrics,
+    DynamicFilterMetrics, FootMetrics, Metrics, Stat, ThesisFigures, TickTime, TickTimer,
+    WalkMetrics,
 };
 pub use motion::{MotionSection, Side, Targets};
+pub use overlap::Overlap;
 
+use crate::output;
+use crate::progress::Progress;
 use crate::sim_cmd::scenario::Scenario;
 use crate::sim_cmd::setup::{self, Setup};
 use anyhow::{anyhow, bail, Context, Result};
@@ -45,6 +51,7 @@ use corps_model::{com_at_placements, frame_placement, Model};
 use corps_sim::Simulator;
 use motion::MotionPlan;
 use nalgebra::Vector3;
+use plot_buffer::PlotBuffer;
 use serde::Deserialize;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -99,38 +106,61 @@ pub struct RunArgs {
     /// Control this many seconds instead of the scenario's `duration`.
     #[arg(long, value_name = "SECONDS")]
     duration: Option<f64>,
-    /// Run everything on one thread (by default, on a machine with two cores or more, the
-    /// simulator prepares its next step on a second thread while the controller computes;
-    /// the results are bit-identical).
-    #[arg(long)]
+    /// Run everything on one thread (the same as `--overlap never`).
+    #[arg(long, conflicts_with = "overlap")]
     serial: bool,
+    /// Whether the simulator prepares its next step on a second thread while the controller
+    /// computes: `adaptive` (the default on two cores or more) overlaps while the run's own
+    /// tick times show it gains, `always`, or `never`. The results are bit-identical.
+    #[arg(long, value_name = "MODE")]
+    overlap: Option<OverlapArg>,
+    /// Size cap of the log in MB (replaces `[output] max_log_mb`, default 1024).
+    #[arg(long, value_name = "MB")]
+    max_log_mb: Option<f64>,
+}
+
+/// `--overlap` values.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum OverlapArg {
+    Adaptive,
+    Always,
+    Never,
 }
 
 /// How a run executes (never what it computes).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RunOptions {
-    /// A progress bar on a terminal.
+    /// Progress on stderr: a bar on a terminal, a line every few seconds otherwise.
     pub progress: bool,
-    /// The simulator prepares its next step on a second thread while the controller
-    /// computes (bit-identical to the serial run; the second thread keeps a core busy).
-    pub overlap: bool,
+    /// Whether the simulator prepares its next step on a second thread while the controller
+    /// computes (bit-identical to the serial run).
+    pub overlap: Overlap,
+    /// Size cap of the log in MB, replacing the scenario's `[output] max_log_mb`.
+    pub max_log_mb: Option<f64>,
 }
 
 impl RunOptions {
-    /// No progress bar, one thread: for tests and tools that run several scenarios at once.
+    /// No progress, one thread: for tests and tools that run several scenarios at once.
     pub fn quiet() -> Self {
         Self {
             progress: false,
-            overlap: false,
+            overlap: Overlap::Never,
+            max_log_mb: None,
         }
     }
 
-    /// What `corps run` does: a progress bar, and the overlap when the machine has two cores
-    /// or more.
+    /// What `corps run` does: progress, and the adaptive overlap when the machine has two
+    /// cores or more.
     pub fn interactive() -> Self {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
         Self {
             progress: true,
-            overlap: std::thread::available_parallelism().is_ok_and(|n| n.get() >= 2),
+            overlap: if cores >= 2 {
+                Overlap::Adaptive
+            } else {
+                Overlap::Never
+            },
+            max_log_mb: None,
         }
     }
 }
@@ -138,7 +168,13 @@ impl RunOptions {
 /// Runs `corps run`.
 pub fn run(args: RunArgs) -> Result<()> {
     let mut options = RunOptions::interactive();
-    options.overlap &= !args.serial;
+    options.max_log_mb = args.max_log_mb;
+    match (args.serial, args.overlap) {
+        (true, _) | (_, Some(OverlapArg::Never)) => options.overlap = Overlap::Never,
+        (_, Some(OverlapArg::Always)) => options.overlap = Overlap::Always,
+        (_, Some(OverlapArg::Adaptive)) => options.overlap = Overlap::Adaptive,
+        (false, None) => {}
+    }
     let report = run_file(
         &args.scenario,
         args.output.as_deref(),
@@ -213,6 +249,11 @@ pub fn run_text(
             .with_duration(d)
             .map_err(|e| anyhow!("{shown}: {e}"))?;
     }
+    if let Some(mb) = options.max_log_mb {
+        scenario = scenario
+            .with_max_log_mb(mb)
+            .map_err(|e| anyhow!("{shown}: {e}"))?;
+    }
     let name = scenario.run_name(path);
     let base_dir = path.parent().unwrap_or(Path::new("."));
     let dir = output
@@ -222,61 +263,69 @@ pub fn run_text(
     run_scenario(&scenario, &name, base_dir, &dir, options).map_err(|e| anyhow!("{shown}: {e:#}"))
 }
 
-/// Per-tick series kept for the plots and the log.
-#[derive(Default)]
-struct Series {
-    t: Vec<f64>,
-    com: [Vec<f64>; 3],
-    com_ref: [Vec<f64>; 3],
-    zmp: [Vec<f64>; 2],
-    zmp_ref: [Vec<f64>; 2],
-    foot_z: [Vec<f64>; 2],
-    foot_z_ref: [Vec<f64>; 2],
-    foot_fz: [Vec<f64>; 2],
-    base: [Vec<f64>; 3],
-    tick_us: Vec<f64>,
-    /// Stabilizer signals (empty without a stabilizer; NaN on ticks where it failed).
-    stabilizer: StabilizerSeries,
-}
-
-/// Per-tick stabilizer signals: per foot (left, right) and axis, the ankle admittance's
-/// (roll, pitch) offset and rate, the measured and desired CoP in the sole frame (x, y), and
-/// the DCM controller's desired ZMP (world x, y).
-#[derive(Default)]
-struct StabilizerSeries {
-    ankle_offset: [[Vec<f64>; 2]; 2],
-    ankle_rate: [[Vec<f64>; 2]; 2],
-    cop: [[Vec<f64>; 2]; 2],
-    cop_des: [[Vec<f64>; 2]; 2],
-    zmp_des: [Vec<f64>; 2],
-}
-
-impl StabilizerSeries {
-    fn push(&mut self, out: Option<&StabilizerOutput>, contact: &ContactSample) {
-        let nan2 = nalgebra::Vector2::repeat(f64::NAN);
-        for f in 0..2 {
-            let a = out.map(|o| o.ankle[f]);
-            let cop = if contact.foot_fz[f] >= ZMP_MIN_FZ {
-                contact.foot_wrenches[f].cop()
-            } else {
-                nan2
-            };
-            let cop_des = out.map_or(nan2, |o| o.foot_cops[f]);
-            for k in 0..2 {
-                self.ankle_offset[f][k].push(a.map_or(f64::NAN, |a| a.offset[k]));
-                self.ankle_rate[f][k].push(a.map_or(f64::NAN, |a| a.velocity[k]));
-                self.cop[f][k].push(cop[k]);
-                self.cop_des[f][k].push(cop_des[k]);
+/// The log's columns, in row order: the tracked signals, then with a stabilizer each foot's
+/// ankle admittance (roll, pitch) offset and rate, measured and desired CoP in the sole frame,
+/// and the DCM controller's desired ZMP (world x, y).
+fn log_columns(stabilized: bool) -> Vec<String> {
+    let mut header: Vec<String> = [
+        "t",
+        "com_x",
+        "com_y",
+        "com_z",
+        "com_ref_x",
+        "com_ref_y",
+        "com_ref_z",
+        "zmp_x",
+        "zmp_y",
+        "zmp_ref_x",
+        "zmp_ref_y",
+        "left_foot_z",
+        "left_foot_z_ref",
+        "right_foot_z",
+        "right_foot_z_ref",
+        "left_foot_fz",
+        "right_foot_fz",
+        "base_x",
+        "base_y",
+        "base_z",
+        "tick_us",
+    ]
+    .map(String::from)
+    .to_vec();
+    if stabilized {
+        for foot in ["left", "right"] {
+            for (signal, axes) in [
+                ("ankle", ["roll", "pitch"]),
+                ("ankle_rate", ["roll", "pitch"]),
+                ("cop", ["x", "y"]),
+                ("cop_des", ["x", "y"]),
+            ] {
+                header.extend(axes.map(|a| format!("{foot}_{signal}_{a}")));
             }
         }
-        for k in 0..2 {
-            self.zmp_des[k].push(out.map_or(f64::NAN, |o| o.zmp_des[k]));
-        }
+        header.extend(["zmp_des_x", "zmp_des_y"].map(String::from));
     }
+    header
+}
 
-    fn is_empty(&self) -> bool {
-        self.zmp_des[0].is_empty()
+/// Appends the stabilizer's signals of one tick to `row` (NaN where it failed or a foot is
+/// unloaded), in [`log_columns`]' order.
+fn push_stabilizer(row: &mut Vec<f64>, out: Option<&StabilizerOutput>, contact: &ContactSample) {
+    let nan2 = nalgebra::Vector2::repeat(f64::NAN);
+    for f in 0..2 {
+        let a = out.map(|o| o.ankle[f]);
+        let cop = if contact.foot_fz[f] >= ZMP_MIN_FZ {
+            contact.foot_wrenches[f].cop()
+        } else {
+            nan2
+        };
+        let cop_des = out.map_or(nan2, |o| o.foot_cops[f]);
+        row.extend((0..2).map(|k| a.map_or(f64::NAN, |a| a.offset[k])));
+        row.extend((0..2).map(|k| a.map_or(f64::NAN, |a| a.velocity[k])));
+        row.extend((0..2).map(|k| cop[k]));
+        row.extend((0..2).map(|k| cop_des[k]));
     }
+    row.extend((0..2).map(|k| out.map_or(f64::NAN, |o| o.zmp_des[k])));
 }
 
 /// Runs a parsed scenario; relative paths resolve from `base_dir`; writes into `dir`.
@@ -309,11 +358,11 @@ pub fn run_scenario(
     for _ in 0..settle_ticks {
         sim.step(&hold)?;
     }
-    // Pushes count from the handover.
-    for push in &scenario.pushes {
-        let mut p = push.clone();
-        p.start += sim.time();
-        sim.add_push(p)?;
+    // Pushes count from the handover (the setup added none).
+    let pushes = crate::sim_cmd::pushes::schedule(&scenario.pushes, sim.time(), scenario.duration)
+        .map_err(|e| anyhow!("{e}"))?;
+    for push in pushes {
+        sim.add_push(push)?;
     }
     let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
     let mass = model.total_mass();
@@ -388,7 +437,6 @@ pub fn run_scenario(
     };
     let base0 = Vector3::new(q[0], q[1], q[2]);
     let mut contact_start: [Option<Vector3<f64>>; 2] = [None, None];
-    let mut series = Series::default();
     let mut pgm = gait::PassivityGaitMeasure::default();
     // Ankle pitch and roll of each leg (TALOS: leg_*_5 and leg_*_6), as torque indices.
     let ankle = |name: &str| -> Result<usize> {
@@ -399,17 +447,23 @@ pub fn run_scenario(
         [ankle("leg_left_5_joint")?, ankle("leg_left_6_joint")?],
         [ankle("leg_right_5_joint")?, ankle("leg_right_6_joint")?],
     ];
-    let mut tick_us = Vec::with_capacity(ticks);
-    let bar = if options.progress {
-        crate::sim_cmd::progress_bar(ticks)
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    // The log streams to disk as the run goes; the plots keep a bounded decimated copy.
+    let header = log_columns(stabilized);
+    let log_every = scenario.output.log_every;
+    let cap = scenario.output.max_log_bytes();
+    output::check_size(ticks.div_ceil(log_every), header.len(), cap)?;
+    let _lock = output::DirLock::acquire(dir)?;
+    let mut log = output::CsvLog::create(dir, &header, cap)?;
+    let mut row = Vec::with_capacity(header.len());
+    let mut plot_buffer = PlotBuffer::new(header.len());
+    let mut tick_time = TickTimer::default();
+    let mut force_sum = [0.0; 2];
+    let mut progress = Progress::new(ticks, dt, options.progress);
     // The controller reads the state from these copies while the simulator prepares its
     // next step.
     let (mut q, mut v) = (q, v);
     let shared = stepper::Shared::new(sim);
-    std::thread::scope(|scope| -> Result<()> {
+    let overlap_counts = std::thread::scope(|scope| -> Result<(u64, u64)> {
         let mut stepper = Stepper::new(scope, &shared, options.overlap);
         for tick in 0..ticks {
             let t = tick as f64 * dt;
@@ -442,19 +496,19 @@ pub fn run_scenario(
             let start = Instant::now();
             let reason = ctrl.tick(t, q.as_slice(), v.as_slice(), &targets, &measured);
             let us = start.elapsed().as_secs_f64() * 1e6;
-            tick_us.push(us);
-            if stabilized {
-                series.stabilizer.push(ctrl.stabilizer_output(), &contact);
-            }
+            tick_time.push(us);
             if let Some(r) = reason {
                 m.fallbacks += 1;
                 m.first_fallback
                     .get_or_insert_with(|| format!("t = {t:.3} s: {r}"));
             }
+            for (sum, fz) in force_sum.iter_mut().zip(contact.foot_fz) {
+                *sum += fz;
+            }
             let feet = placements.map(|p| p.translation);
             record(
                 &mut m,
-                &mut series,
+                &mut row,
                 Sample {
                     t,
                     base: Vector3::new(q[0], q[1], q[2]),
@@ -467,17 +521,22 @@ pub fn run_scenario(
                 },
                 &mut contact_start,
             );
-            stepper.step(ctrl.command())?;
-            if tick % 50 == 0 {
-                bar.set_position(tick as u64);
-                bar.set_message(format!("t = {t:.2} s"));
+            if stabilized {
+                push_stabilizer(&mut row, ctrl.stabilizer_output(), &contact);
             }
+            if tick % log_every == 0 {
+                log.row(&row)?;
+            }
+            plot_buffer.push(&row);
+            stepper.step(ctrl.command())?;
+            progress.tick(tick);
         }
-        Ok(())
+        Ok(stepper.overlap_counts())
     })?;
     let sim = shared.into_inner()?;
-    bar.finish_and_clear();
-    m.tick_time = TickTime::from_samples(&mut tick_us);
+    progress.finish();
+    m.tick_time = tick_time.summary();
+    m.overlapped_ticks = overlap_counts.0;
     m.thesis = scenario.thesis.clone();
     if let Some(walk) = plan.walk() {
         // Where the plan puts the base: its final feet midpoint plus the base's starting
@@ -503,23 +562,20 @@ pub fn run_scenario(
             dynamic_filter,
         });
     }
-    for (k, foot) in m.feet.iter_mut().enumerate() {
-        let n = series.foot_fz[k].len().max(1) as f64;
-        foot.force_mean = series.foot_fz[k].iter().sum::<f64>() / n;
+    for (foot, sum) in m.feet.iter_mut().zip(force_sum) {
+        foot.force_mean = sum / ticks.max(1) as f64;
     }
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("creating the output directory {}", dir.display()))?;
     let mut files = vec![
-        write_log(dir, &series, scenario.output.log_every)?,
-        write_atomic(dir, "metrics.txt", m.to_string().as_bytes())?,
-        write_atomic(
+        log.finish()?,
+        output::write_atomic(dir, "metrics.txt", m.to_string().as_bytes())?,
+        output::write_atomic(
             dir,
             "metrics.json",
             serde_json::to_string_pretty(&m)?.as_bytes(),
         )?,
     ];
     if scenario.output.plots {
-        files.extend(plots::write(dir, &series, &m.scenario)?);
+        files.extend(plots::write(dir, &plot_buffer, &header, &m.scenario)?);
     }
     Ok(RunReport {
         metrics: m,
@@ -642,31 +698,32 @@ struct Sample<'a> {
     tick_us: f64,
 }
 
+/// Updates the metrics with one tick and fills `row` with its tracked signals, in
+/// [`log_columns`]' order (without the stabilizer's).
 fn record(
     m: &mut Metrics,
-    series: &mut Series,
+    row: &mut Vec<f64>,
     s: Sample,
     contact_start: &mut [Option<Vector3<f64>>; 2],
 ) {
     let c_ref = &s.targets.com;
     for k in 0..3 {
         m.com_error[k].push(s.com[k] - c_ref.pos[k]);
-        series.com[k].push(s.com[k]);
-        series.com_ref[k].push(c_ref.pos[k]);
-        series.base[k].push(s.base[k]);
     }
     // Reference ZMP of the CoM reference on the measured contact plane.
     let zmp_ref = s.targets.reference_zmp(s.contact.plane_z, GRAVITY);
-    for k in 0..2 {
-        series.zmp_ref[k].push(zmp_ref[k]);
-        match s.contact.zmp {
-            Some(p) => {
-                m.zmp_error[k].push(p[k] - zmp_ref[k]);
-                series.zmp[k].push(p[k]);
-            }
-            None => series.zmp[k].push(f64::NAN),
+    if let Some(p) = s.contact.zmp {
+        for k in 0..2 {
+            m.zmp_error[k].push(p[k] - zmp_ref[k]);
         }
     }
+    row.clear();
+    row.push(s.t);
+    row.extend(s.com.iter());
+    row.extend(c_ref.pos.iter());
+    let zmp = s.contact.zmp.unwrap_or([f64::NAN; 2]);
+    row.extend(zmp);
+    row.extend([zmp_ref[0], zmp_ref[1]]);
     for (k, foot) in m.feet.iter_mut().enumerate() {
         let target = &s.targets.feet[k];
         let r = target.reference.placement.translation;
@@ -681,101 +738,14 @@ fn record(
         } else {
             contact_start[k] = None;
         }
-        series.foot_z[k].push(s.feet[k].z);
-        series.foot_z_ref[k].push(r.z);
-        series.foot_fz[k].push(s.contact.foot_fz[k]);
+        row.extend([s.feet[k].z, r.z]);
     }
+    row.extend(s.contact.foot_fz);
+    row.extend(s.base.iter());
+    row.push(s.tick_us);
     let drift = (s.base - s.base0).norm();
     m.base_drift = drift;
     m.base_drift_peak = m.base_drift_peak.max(drift);
     m.min_base_height = m.min_base_height.min(s.base.z);
     m.other_contact_peak = m.other_contact_peak.max(s.contact.other);
-    series.t.push(s.t);
-    series.tick_us.push(s.tick_us);
-}
-
-/// Writes `bytes` to `dir/name` through a temporary file, so a failed run never leaves half a
-/// file over a previous one.
-fn write_atomic(dir: &Path, name: &str, bytes: &[u8]) -> Result<PathBuf> {
-    let target = dir.join(name);
-    let mut tmp = tempfile::Builder::new()
-        .prefix(&format!(".{name}."))
-        .suffix(".partial")
-        .tempfile_in(dir)
-        .with_context(|| format!("writing {}", target.display()))?;
-    tmp.write_all(bytes)?;
-    tmp.as_file().sync_all()?;
-    tmp.persist(&target)
-        .with_context(|| format!("writing {}", target.display()))?;
-    Ok(target)
-}
-
-/// `log.csv`: one row every `every` ticks.
-fn write_log(dir: &Path, s: &Series, every: usize) -> Result<PathBuf> {
-    let mut header: Vec<String> = [
-        "t",
-        "com_x",
-        "com_y",
-        "com_z",
-        "com_ref_x",
-        "com_ref_y",
-        "com_ref_z",
-        "zmp_x",
-        "zmp_y",
-        "zmp_ref_x",
-        "zmp_ref_y",
-        "left_foot_z",
-        "left_foot_z_ref",
-        "right_foot_z",
-        "right_foot_z_ref",
-        "left_foot_fz",
-        "right_foot_fz",
-        "base_x",
-        "base_y",
-        "base_z",
-        "tick_us",
-    ]
-    .map(String::from)
-    .to_vec();
-    let st = &s.stabilizer;
-    if !st.is_empty() {
-        for foot in ["left", "right"] {
-            for (signal, axes) in [
-                ("ankle", ["roll", "pitch"]),
-                ("ankle_rate", ["roll", "pitch"]),
-                ("cop", ["x", "y"]),
-                ("cop_des", ["x", "y"]),
-            ] {
-                header.extend(axes.map(|a| format!("{foot}_{signal}_{a}")));
-            }
-        }
-        header.extend(["zmp_des_x", "zmp_des_y"].map(String::from));
-    }
-    let mut log = crate::sim_cmd::log::CsvLog::create(dir, &header)?;
-    let mut row = Vec::with_capacity(header.len());
-    for i in (0..s.t.len()).step_by(every.max(1)) {
-        row.clear();
-        row.push(s.t[i]);
-        row.extend((0..3).map(|k| s.com[k][i]));
-        row.extend((0..3).map(|k| s.com_ref[k][i]));
-        row.extend((0..2).map(|k| s.zmp[k][i]));
-        row.extend((0..2).map(|k| s.zmp_ref[k][i]));
-        for k in 0..2 {
-            row.push(s.foot_z[k][i]);
-            row.push(s.foot_z_ref[k][i]);
-        }
-        row.extend((0..2).map(|k| s.foot_fz[k][i]));
-        row.extend((0..3).map(|k| s.base[k][i]));
-        row.push(s.tick_us[i]);
-        if !st.is_empty() {
-            for f in 0..2 {
-                for signal in [&st.ankle_offset, &st.ankle_rate, &st.cop, &st.cop_des] {
-                    row.extend((0..2).map(|k| signal[f][k][i]));
-                }
-            }
-            row.extend((0..2).map(|k| st.zmp_des[k][i]));
-        }
-        log.row(&row)?;
-    }
-    log.finish()
 }

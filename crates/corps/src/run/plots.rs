@@ -2,32 +2,42 @@
 //! heights and vertical forces, base position, controller time per tick; with a stabilizer,
 //! the ankle admittance's offsets and rates and each foot's CoP against its target.
 
-use super::Series;
+use super::plot_buffer::PlotBuffer;
 use crate::sim_cmd::plots::{draw_figures, Figure, Panel};
-use anyhow::Result;
+use anyhow::{anyhow, Result};
 use std::path::{Path, PathBuf};
 
-/// At most this many points per series (longer runs are decimated).
-const MAX_POINTS: usize = 20_000;
-
-fn decimate(x: &[f64], stride: usize) -> Vec<f64> {
-    x.iter().step_by(stride).copied().collect()
-}
-
-/// Writes the figures into `dir`; returns their paths.
-pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
-    let stride = s.t.len().div_ceil(MAX_POINTS).max(1);
-    let d = |x: &Vec<f64>| decimate(x, stride);
-    let t = d(&s.t);
-    let com = s.com.each_ref().map(d);
-    let com_ref = s.com_ref.each_ref().map(d);
-    let zmp = s.zmp.each_ref().map(d);
-    let zmp_ref = s.zmp_ref.each_ref().map(d);
-    let foot_z = s.foot_z.each_ref().map(d);
-    let foot_z_ref = s.foot_z_ref.each_ref().map(d);
-    let foot_fz = s.foot_fz.each_ref().map(d);
-    let base = s.base.each_ref().map(d);
-    let tick = d(&s.tick_us);
+/// Writes the figures of the signals in `buffer` (columns named by `header`, the log's) into
+/// `dir`; returns their paths.
+pub fn write(
+    dir: &Path,
+    buffer: &PlotBuffer,
+    header: &[String],
+    title: &str,
+) -> Result<Vec<PathBuf>> {
+    let column = |name: &str| -> Result<&Vec<f64>> {
+        let k = header
+            .iter()
+            .position(|h| h == name)
+            .ok_or_else(|| anyhow!("plots: no signal {name}"))?;
+        Ok(&buffer.columns()[k])
+    };
+    let xyz = |prefix: &str, n: usize| -> Result<Vec<&Vec<f64>>> {
+        ["x", "y", "z"][..n]
+            .iter()
+            .map(|a| column(&format!("{prefix}_{a}")))
+            .collect()
+    };
+    let t = column("t")?;
+    let com = xyz("com", 3)?;
+    let com_ref = xyz("com_ref", 3)?;
+    let zmp = xyz("zmp", 2)?;
+    let zmp_ref = xyz("zmp_ref", 2)?;
+    let foot_z = [column("left_foot_z")?, column("right_foot_z")?];
+    let foot_z_ref = [column("left_foot_z_ref")?, column("right_foot_z_ref")?];
+    let foot_fz = [column("left_foot_fz")?, column("right_foot_fz")?];
+    let base = xyz("base", 3)?;
+    let tick = column("tick_us")?;
     let mut figures: Vec<Figure> = vec![];
     let mut figure = |name: &str, title: String, panels, cols: usize| {
         figures.push(Figure {
@@ -45,8 +55,8 @@ pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
                 &format!("CoM {}", axes[k]),
                 "m",
                 vec![
-                    ("measured".into(), &com[k]),
-                    ("reference".into(), &com_ref[k]),
+                    ("measured".into(), com[k]),
+                    ("reference".into(), com_ref[k]),
                 ],
             )
         })
@@ -59,8 +69,8 @@ pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
                 &format!("ZMP {}", axes[k]),
                 "m",
                 vec![
-                    ("measured".into(), &zmp[k]),
-                    ("reference (LIPM)".into(), &zmp_ref[k]),
+                    ("measured".into(), zmp[k]),
+                    ("reference (LIPM)".into(), zmp_ref[k]),
                 ],
             )
         })
@@ -74,8 +84,8 @@ pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
                 &format!("{} sole height", names[k]),
                 "m",
                 vec![
-                    ("measured".into(), &foot_z[k]),
-                    ("reference".into(), &foot_z_ref[k]),
+                    ("measured".into(), foot_z[k]),
+                    ("reference".into(), foot_z_ref[k]),
                 ],
             )
         })
@@ -83,15 +93,15 @@ pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
     panels.push(Panel::new(
         "vertical contact force",
         "N",
-        vec![("left".into(), &foot_fz[0]), ("right".into(), &foot_fz[1])],
+        vec![("left".into(), foot_fz[0]), ("right".into(), foot_fz[1])],
     ));
     panels.push(Panel::new(
         "base position",
         "m",
         vec![
-            ("x".into(), &base[0]),
-            ("y".into(), &base[1]),
-            ("z".into(), &base[2]),
+            ("x".into(), base[0]),
+            ("y".into(), base[1]),
+            ("z".into(), base[2]),
         ],
     ));
     figure("feet.png", format!("{title}: feet and base"), panels, 2);
@@ -99,7 +109,7 @@ pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
     let panels = vec![Panel::new(
         "controller time per tick",
         "µs",
-        vec![("tick".into(), &tick)],
+        vec![("tick".into(), tick)],
     )];
     figure(
         "tick_time.png",
@@ -108,43 +118,41 @@ pub fn write(dir: &Path, s: &Series, title: &str) -> Result<Vec<PathBuf>> {
         1,
     );
 
-    // The stabilizer's series (empty without one), decimated here to outlive the figures.
-    let st = &s.stabilizer;
-    let dd = |x: &[Vec<f64>; 2]| x.each_ref().map(d);
-    let offset = st.ankle_offset.each_ref().map(dd);
-    let rate = st.ankle_rate.each_ref().map(dd);
-    let cop = st.cop.each_ref().map(dd);
-    let cop_des = st.cop_des.each_ref().map(dd);
-    if !st.is_empty() {
+    // The stabilizer's signals (absent without one).
+    if header.iter().any(|h| h == "zmp_des_x") {
+        let pair = |foot: &str, signal: &str, axes: [&str; 2]| -> Result<[&Vec<f64>; 2]> {
+            Ok([
+                column(&format!("{foot}_{signal}_{}", axes[0]))?,
+                column(&format!("{foot}_{signal}_{}", axes[1]))?,
+            ])
+        };
         let mut panels = vec![];
-        for f in 0..2 {
+        for name in names {
+            let offset = pair(name, "ankle", ["roll", "pitch"])?;
+            let rate = pair(name, "ankle_rate", ["roll", "pitch"])?;
             panels.push(Panel::new(
-                &format!("{} ankle offset", names[f]),
+                &format!("{name} ankle offset"),
                 "rad",
-                vec![
-                    ("roll".into(), &offset[f][0]),
-                    ("pitch".into(), &offset[f][1]),
-                ],
+                vec![("roll".into(), offset[0]), ("pitch".into(), offset[1])],
             ));
             panels.push(Panel::new(
-                &format!("{} ankle rate", names[f]),
+                &format!("{name} ankle rate"),
                 "rad/s",
-                vec![("roll".into(), &rate[f][0]), ("pitch".into(), &rate[f][1])],
+                vec![("roll".into(), rate[0]), ("pitch".into(), rate[1])],
             ));
         }
-        for f in 0..2 {
+        for name in names {
+            let cop = pair(name, "cop", ["x", "y"])?;
+            let cop_des = pair(name, "cop_des", ["x", "y"])?;
             for k in 0..2 {
                 panels.push(Panel::new(
-                    &format!("{} CoP {} (sole frame)", names[f], axes[k]),
+                    &format!("{name} CoP {} (sole frame)", axes[k]),
                     "m",
-                    vec![
-                        ("measured".into(), &cop[f][k]),
-                        ("desired".into(), &cop_des[f][k]),
-                    ],
+                    vec![("measured".into(), cop[k]), ("desired".into(), cop_des[k])],
                 ));
             }
         }
         figure("ankle.png", format!("{title}: ankle admittance"), panels, 2);
     }
-    draw_figures(&t, &figures)
+    draw_figures(t, &figures)
 }

@@ -1,25 +1,30 @@
 //! The simulator of a run, stepped either on the run's thread alone or with its next step's
 //! state-only work ([`Simulator::prepare_step`]: h(q, v), the contact pass, the factorization)
 //! done on a second thread while the controller computes the command. Both give bit-identical
-//! runs; the second overlaps about a fifth of a torque walk's work with the controller.
+//! steps, so a run may switch between them at any tick.
 //!
-//! The hand-over is two counters: the run asks for a preparation, then, before the step, waits
-//! for it to be done (the controller takes longer than the preparation, so it usually is).
-//! The worker spins between requests: woken from sleep each tick instead, it made the 20 cm
-//! walk slower than the serial run (the run's thread waited 0.3–2.7 s in all for it on this
-//! project's 2-core VM). It keeps a core busy, so the overlap is for a run that has the machine
-//! ([`super::RunOptions::interactive`]), not for test suites that run several scenarios at once.
+//! The hand-over is two counters. Each side waits for the other by spinning for a few
+//! microseconds and then parking (the other side unparks it), so a waiting thread never holds
+//! a core that the other runs of the machine need. Whether a tick overlaps is decided by an
+//! [`OverlapSchedule`]: with [`Overlap::Adaptive`] the run times its own ticks both ways and
+//! keeps the faster, so the overlap is used only while it gains.
 
+use super::overlap::{Overlap, OverlapSchedule};
 use anyhow::{anyhow, bail, Result};
 use corps_sim::{Command, Simulator};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard};
-use std::thread::{Scope, ScopedJoinHandle};
+use std::thread::{Scope, ScopedJoinHandle, Thread};
+use std::time::{Duration, Instant};
 
-/// Waits that spin before yielding the core (a preparation takes tens of microseconds).
-const SPINS_BEFORE_YIELD: u32 = 2_000;
-/// How long the worker spins without a request before it sleeps.
-const IDLE_BEFORE_SLEEP: std::time::Duration = std::time::Duration::from_millis(1);
+/// How long the run's thread spins for a preparation before it parks (a preparation takes
+/// tens of microseconds and usually ends while the controller computes).
+const RUN_SPIN: Duration = Duration::from_micros(20);
+/// How long the worker spins for the next request before it parks (the next request comes
+/// one step and one state read after the last preparation, some 20 µs later on TALOS).
+const WORKER_SPIN: Duration = Duration::from_micros(50);
+/// Longest single park of the run's thread before it checks the worker is alive.
+const PARK_CHECK: Duration = Duration::from_millis(5);
 
 /// What the run's thread and the worker share.
 pub(crate) struct Shared {
@@ -58,20 +63,29 @@ pub(crate) struct Stepper<'scope> {
     shared: &'scope Shared,
     worker: Option<ScopedJoinHandle<'scope, ()>>,
     requested: u64,
+    /// A preparation was asked for this tick.
+    pending: bool,
+    schedule: OverlapSchedule,
+    last_step: Option<Instant>,
 }
 
 impl<'scope> Stepper<'scope> {
-    /// With `overlap`, starts the worker in `scope`.
+    /// Starts the worker in `scope` unless `overlap` is [`Overlap::Never`].
     pub(crate) fn new<'env>(
         scope: &'scope Scope<'scope, 'env>,
         shared: &'scope Shared,
-        overlap: bool,
+        overlap: Overlap,
     ) -> Self {
-        let worker = overlap.then(|| scope.spawn(move || prepare_on_request(shared)));
+        let run_thread = std::thread::current();
+        let worker = (overlap != Overlap::Never)
+            .then(|| scope.spawn(move || prepare_on_request(shared, run_thread)));
         Self {
             shared,
             worker,
             requested: 0,
+            pending: false,
+            schedule: OverlapSchedule::new(overlap),
+            last_step: None,
         }
     }
 
@@ -81,34 +95,58 @@ impl<'scope> Stepper<'scope> {
         self.shared.lock()
     }
 
-    /// Starts the next step's state-only work on the worker (nothing without one).
+    /// Starts the next step's state-only work on the worker when this tick overlaps.
     pub(crate) fn prepare(&mut self) {
-        if let Some(worker) = &self.worker {
-            self.requested += 1;
-            self.shared
-                .requested
-                .store(self.requested, Ordering::Release);
-            worker.thread().unpark();
+        let Some(worker) = &self.worker else { return };
+        if !self.schedule.overlap_this_tick() {
+            return;
         }
+        self.requested += 1;
+        self.shared
+            .requested
+            .store(self.requested, Ordering::Release);
+        worker.thread().unpark();
+        self.pending = true;
     }
 
     /// Steps under `cmd`, once the preparation asked for is done.
     pub(crate) fn step(&mut self, cmd: &Command) -> Result<()> {
-        if let Some(worker) = &self.worker {
-            let mut spins = 0u32;
-            while self.shared.done.load(Ordering::Acquire) != self.requested {
-                if spins < SPINS_BEFORE_YIELD {
-                    std::hint::spin_loop();
-                    spins += 1;
-                } else if worker.is_finished() {
-                    bail!("the simulator's preparing thread stopped");
-                } else {
-                    std::thread::yield_now();
-                }
-            }
+        if std::mem::take(&mut self.pending) {
+            self.wait_for_preparation()?;
         }
         self.shared.lock()?.step(cmd)?;
+        let now = Instant::now();
+        if let Some(last) = self.last_step.replace(now) {
+            self.schedule.record_tick(now - last);
+        }
         Ok(())
+    }
+
+    /// Spins briefly, then parks until the worker says the preparation is done.
+    fn wait_for_preparation(&self) -> Result<()> {
+        let Some(worker) = &self.worker else {
+            return Ok(());
+        };
+        let done = || self.shared.done.load(Ordering::Acquire) == self.requested;
+        let start = Instant::now();
+        let mut spins = 0u32;
+        while !done() {
+            spins = spins.wrapping_add(1);
+            if !spins.is_multiple_of(64) || start.elapsed() < RUN_SPIN {
+                std::hint::spin_loop();
+                continue;
+            }
+            if worker.is_finished() {
+                bail!("the simulator's preparing thread stopped");
+            }
+            std::thread::park_timeout(PARK_CHECK);
+        }
+        Ok(())
+    }
+
+    /// How many ticks overlapped and how many ran serially, for the run's report.
+    pub(crate) fn overlap_counts(&self) -> (u64, u64) {
+        self.schedule.counts()
     }
 }
 
@@ -122,33 +160,34 @@ impl Drop for Stepper<'_> {
     }
 }
 
-/// The worker: spins while requests come (one per control tick), sleeps after a quiet
-/// millisecond, until the run stops.
-fn prepare_on_request(shared: &Shared) {
+/// The worker: prepares each requested step, tells the run's thread, then waits for the next
+/// request (spinning briefly, then parked) until the run stops.
+fn prepare_on_request(shared: &Shared, run_thread: Thread) {
     let mut seen = 0;
-    let mut idle_since = std::time::Instant::now();
-    let mut spins = 0u32;
     loop {
-        let requested = shared.requested.load(Ordering::Acquire);
-        if requested == seen {
+        let start = Instant::now();
+        let mut spins = 0u32;
+        let requested = loop {
+            let requested = shared.requested.load(Ordering::Acquire);
+            if requested != seen {
+                break requested;
+            }
             if shared.stop.load(Ordering::Acquire) {
                 return;
             }
-            spins += 1;
-            if spins.is_multiple_of(256) && idle_since.elapsed() > IDLE_BEFORE_SLEEP {
-                std::thread::park();
-            } else {
+            spins = spins.wrapping_add(1);
+            if !spins.is_multiple_of(64) || start.elapsed() < WORKER_SPIN {
                 std::hint::spin_loop();
+            } else {
+                std::thread::park();
             }
-            continue;
-        }
+        };
         seen = requested;
         match shared.sim.lock() {
             Ok(mut sim) => sim.prepare_step(),
             Err(_) => return,
         }
         shared.done.store(seen, Ordering::Release);
-        idle_since = std::time::Instant::now();
-        spins = 0;
+        run_thread.unpark();
     }
 }

@@ -1,22 +1,12 @@
 //! The run's log: a CSV file with one row per control tick and every signal as a column, the
 //! unit in the column name (`base_z_m`, `tau_leg_left_4_joint_Nm`). Ground truth first, then
-//! the measured sensor readings (noise and bias added) under a `meas_` prefix.
-//!
-//! The file is written to a temporary name in the output directory and renamed over
-//! `log.csv` only when the run finished, so a failed run never leaves a partial log where a
-//! good one was.
+//! the measured sensor readings (noise and bias added) under a `meas_` prefix. The rows are
+//! streamed by [`crate::output::CsvLog`].
 
 use super::setup::Foot;
-use anyhow::{bail, Context, Result};
 use corps_model::{JointKind, Model};
 use corps_sim::{first_actuated, Readings};
 use nalgebra::Vector3;
-use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
-use tempfile::NamedTempFile;
-
-/// Name of the log in the output directory.
-pub const LOG_NAME: &str = "log.csv";
 
 /// What one row holds besides the sensor readings.
 pub struct Extra<'a> {
@@ -135,84 +125,4 @@ fn clean(name: &str) -> String {
             }
         })
         .collect()
-}
-
-/// A CSV log being written to a temporary file.
-pub struct CsvLog {
-    out: BufWriter<NamedTempFile>,
-    target: PathBuf,
-    columns: usize,
-    rows: usize,
-    number: ryu::Buffer,
-}
-
-impl CsvLog {
-    /// Starts `dir/log.csv` (as a temporary file in `dir`) with its header.
-    pub fn create(dir: &Path, header: &[String]) -> Result<Self> {
-        let mut builder = tempfile::Builder::new();
-        builder.prefix(".log.csv.").suffix(".partial");
-        // An ordinary file once renamed (0o666 less the umask), not tempfile's private 0o600.
-        #[cfg(unix)]
-        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-        let tmp = builder
-            .tempfile_in(dir)
-            .with_context(|| format!("creating a temporary log in {}", dir.display()))?;
-        let mut out = BufWriter::with_capacity(1 << 20, tmp);
-        writeln!(out, "{}", header.join(","))?;
-        Ok(Self {
-            out,
-            target: dir.join(LOG_NAME),
-            columns: header.len(),
-            rows: 0,
-            number: ryu::Buffer::new(),
-        })
-    }
-
-    /// Writes one row (as many values as header columns).
-    pub fn row(&mut self, values: &[f64]) -> Result<()> {
-        if values.len() != self.columns {
-            bail!(
-                "log row has {} values for {} columns",
-                values.len(),
-                self.columns
-            );
-        }
-        for (k, x) in values.iter().enumerate() {
-            if k > 0 {
-                self.out.write_all(b",")?;
-            }
-            let text = if x.is_finite() {
-                self.number.format_finite(*x)
-            } else {
-                "nan"
-            };
-            self.out.write_all(text.as_bytes())?;
-        }
-        self.out.write_all(b"\n")?;
-        self.rows += 1;
-        Ok(())
-    }
-
-    /// Rows written so far.
-    pub fn rows(&self) -> usize {
-        self.rows
-    }
-
-    /// Number of columns.
-    pub fn columns(&self) -> usize {
-        self.columns
-    }
-
-    /// Flushes the file and moves it to `log.csv`, replacing the previous log.
-    pub fn finish(self) -> Result<PathBuf> {
-        let tmp = self
-            .out
-            .into_inner()
-            .map_err(|e| e.into_error())
-            .context("writing the log")?;
-        tmp.as_file().sync_all().context("writing the log")?;
-        tmp.persist(&self.target)
-            .with_context(|| format!("writing {}", self.target.display()))?;
-        Ok(self.target)
-    }
 }

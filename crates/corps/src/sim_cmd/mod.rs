@@ -8,6 +8,7 @@
 
 pub(crate) mod log;
 pub(crate) mod plots;
+pub(crate) mod pushes;
 pub(crate) mod scenario;
 pub(crate) mod setup;
 mod summary;
@@ -15,11 +16,10 @@ mod summary;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
 use corps_model::{center_of_mass, forward_kinematics_placements, frame_placement, Data};
-use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::Vector3;
 use scenario::Scenario;
 use setup::Setup;
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 use summary::{Summary, Tracker};
@@ -35,6 +35,9 @@ pub struct SimArgs {
     /// Simulate this many seconds instead of the scenario's `duration`.
     #[arg(long, value_name = "SECONDS")]
     duration: Option<f64>,
+    /// Size cap of the log in MB (replaces `[output] max_log_mb`, default 1024).
+    #[arg(long, value_name = "MB")]
+    max_log_mb: Option<f64>,
 }
 
 /// Runs `corps sim`.
@@ -49,6 +52,11 @@ pub fn run(args: SimArgs) -> Result<()> {
     if let Some(d) = args.duration {
         scenario = scenario
             .with_duration(d)
+            .map_err(|e| anyhow!("{shown}: {e}"))?;
+    }
+    if let Some(mb) = args.max_log_mb {
+        scenario = scenario
+            .with_max_log_mb(mb)
             .map_err(|e| anyhow!("{shown}: {e}"))?;
     }
     let base_dir = path.parent().unwrap_or(Path::new("."));
@@ -95,7 +103,10 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
     } = setup;
     let ft_names: Vec<String> = sensors.force_torque_names().map(String::from).collect();
     let header = log::columns(&model, &ft_names, &feet);
-    let mut csv = log::CsvLog::create(dir, &header)?;
+    let cap = scenario.output.max_log_bytes();
+    crate::output::check_size(ticks.div_ceil(scenario.output.log_every), header.len(), cap)?;
+    let _lock = crate::output::DirLock::acquire(dir)?;
+    let mut csv = crate::output::CsvLog::create(dir, &header, cap)?;
     let joints: Vec<String> = log::actuated_joints(&model)
         .into_iter()
         .map(|(n, _)| n)
@@ -116,7 +127,7 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
     let mut feet_fz = vec![0.0; feet.len()];
     let mut feet_ft = vec![[0.0; 6]; feet.len()];
     let mut feet_pos = vec![Vector3::zeros(); feet.len()];
-    let progress = progress_bar(ticks);
+    let mut progress = crate::progress::Progress::new(ticks, scenario.sim.control_dt, true);
     let start = Instant::now();
     for tick in 0..ticks {
         sim.step(&command)?;
@@ -158,12 +169,9 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
             },
         );
         tracker.update(truth.time, q[2], &feet_pos);
-        if tick % 50 == 0 {
-            progress.set_position(tick as u64);
-            progress.set_message(format!("t = {:.2} s", truth.time));
-        }
+        progress.tick(tick);
     }
-    progress.finish_and_clear();
+    progress.finish();
     let wall = start.elapsed();
     let (rows, columns) = (csv.rows(), csv.columns());
     let log = csv.finish()?;
@@ -188,18 +196,4 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
         columns,
         plots,
     })
-}
-
-/// A progress bar on stderr, hidden when stderr is not a terminal.
-pub(crate) fn progress_bar(ticks: usize) -> ProgressBar {
-    if !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::new(ticks as u64);
-    if let Ok(style) =
-        ProgressStyle::with_template("simulating [{bar:40}] {percent:>3}%  {msg}  eta {eta}")
-    {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    bar
 }

@@ -1,7 +1,8 @@
 //! The scenario file of `corps sim`: its TOML schema (unknown keys are errors), parsing with
 //! one-line errors that name the key, and the checks of values that need no robot model.
 
-use corps_sim::{Push, SensorNoise, SimSettings, TerrainPreset};
+use super::pushes::PushSpec;
+use corps_sim::{SensorNoise, SimSettings, TerrainPreset};
 use serde::Deserialize;
 use std::path::PathBuf;
 
@@ -29,7 +30,7 @@ pub struct Scenario {
     pub sim: SimSettings,
     /// Pushes, `[[push]]` tables.
     #[serde(default, rename = "push")]
-    pub pushes: Vec<Push>,
+    pub pushes: Vec<PushSpec>,
     /// Sensor noise per channel (none by default).
     #[serde(default)]
     pub noise: SensorNoise,
@@ -157,6 +158,15 @@ pub struct OutputSection {
     pub plots: bool,
     /// Log one control tick in this many (1: every tick).
     pub log_every: usize,
+    /// Size cap of the log (MB): a run whose log would be larger is refused before it starts.
+    pub max_log_mb: f64,
+}
+
+impl OutputSection {
+    /// The log's size cap in bytes.
+    pub fn max_log_bytes(&self) -> u64 {
+        (self.max_log_mb * 1e6) as u64
+    }
 }
 
 impl Default for OutputSection {
@@ -166,6 +176,7 @@ impl Default for OutputSection {
             format: LogFormat::Csv,
             plots: true,
             log_every: 1,
+            max_log_mb: crate::output::DEFAULT_MAX_LOG_MB,
         }
     }
 }
@@ -206,6 +217,13 @@ impl Scenario {
     pub fn with_duration(mut self, duration: f64) -> Result<Scenario, String> {
         self.duration = duration;
         self.check().map_err(|e| format!("--duration: {e}"))?;
+        Ok(self)
+    }
+
+    /// Replaces the log's size cap (command-line override) and checks again.
+    pub fn with_max_log_mb(mut self, mb: f64) -> Result<Scenario, String> {
+        self.output.max_log_mb = mb;
+        self.check().map_err(|e| format!("--max-log-mb: {e}"))?;
         Ok(self)
     }
 
@@ -267,25 +285,16 @@ impl Scenario {
                 self.duration, self.sim.control_dt
             ));
         }
-        for (k, p) in self.pushes.iter().enumerate() {
-            if !(p.start >= 0.0 && p.start.is_finite()) {
-                return Err(format!(
-                    "push[{k}].start: must be a finite time ≥ 0 s, got {}",
-                    p.start
-                ));
-            }
-            if !(p.duration >= 0.0 && p.duration.is_finite()) {
-                return Err(format!(
-                    "push[{k}].duration: must be a finite time ≥ 0 s, got {}",
-                    p.duration
-                ));
-            }
-            for (key, v) in [("force", p.force), ("torque", p.torque)] {
-                if v.iter().any(|x| !x.is_finite()) {
-                    return Err(format!("push[{k}].{key}: must be finite"));
-                }
-            }
+        if !(self.output.max_log_mb > 0.0 && self.output.max_log_mb.is_finite()) {
+            return Err(format!(
+                "output.max_log_mb: must be a positive number of MB, got {}",
+                self.output.max_log_mb
+            ));
         }
+        for (k, p) in self.pushes.iter().enumerate() {
+            p.check(k)?;
+        }
+        super::pushes::schedule(&self.pushes, 0.0, self.duration)?;
         check_noise(&self.noise)
     }
 

@@ -95,8 +95,14 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         model
             .frame_id(&push.frame)
             .map_err(|e| anyhow!("push[{k}].frame: {e}"))?;
-        sim.add_push(push.clone())
-            .map_err(|e| anyhow!("push[{k}]: {e}"))?;
+    }
+    // A controller run adds its pushes at the handover (`corps run`), a plain simulation now.
+    if scenario.controller.is_none() {
+        let pushes = super::pushes::schedule(&scenario.pushes, 0.0, scenario.duration)
+            .map_err(|e| anyhow!("{e}"))?;
+        for push in pushes {
+            sim.add_push(push).map_err(|e| anyhow!("push: {e}"))?;
+        }
     }
 
     let (layout, feet) = sensor_layout(scenario, default_robot);

@@ -1,0 +1,34 @@
+//! What a run writes into its output directory: the streamed CSV log, files replaced whole
+//! (metrics), and the lock that keeps two runs out of one directory.
+
+mod csv_log;
+mod dir_lock;
+
+pub use csv_log::{check_size, estimated_size, megabytes, CsvLog, LOG_NAME, PARTIAL_LOG_NAME};
+pub use dir_lock::DirLock;
+
+use anyhow::{Context, Result};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Default size cap of a log (`[output] max_log_mb`).
+pub const DEFAULT_MAX_LOG_MB: f64 = 1024.0;
+
+/// Writes `bytes` to `dir/name` through a temporary file, so a failed run never leaves half a
+/// file over a previous one. The file is an ordinary one (0o666 less the umask).
+pub fn write_atomic(dir: &Path, name: &str, bytes: &[u8]) -> Result<PathBuf> {
+    let target = dir.join(name);
+    let prefix = format!(".{name}.");
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(&prefix).suffix(".partial");
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let mut tmp = builder
+        .tempfile_in(dir)
+        .with_context(|| format!("writing {}", target.display()))?;
+    tmp.write_all(bytes)?;
+    tmp.as_file().sync_all()?;
+    tmp.persist(&target)
+        .with_context(|| format!("writing {}", target.display()))?;
+    Ok(target)
+}

@@ -1,0 +1,148 @@
+//! What `corps run` leaves on disk when its output cannot be written as planned: a log over
+//! its size cap is refused before the run starts, a full disk stops the run with one line, a
+//! killed run leaves every row up to its last flush, and two runs never share a directory.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn repo(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(rel)
+}
+
+fn stand() -> PathBuf {
+    repo("scenarios/control/tsid_torque_stand.toml")
+}
+
+/// `corps run` with `args`: (success, stderr).
+fn corps_run(args: &[&str]) -> (bool, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_corps"))
+        .arg("run")
+        .args(args)
+        .output()
+        .expect("runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn spawn_run(args: &[&str]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_corps"))
+        .arg("run")
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("starts")
+}
+
+/// Waits until `path` holds rows past `t` seconds (or panics after a minute).
+fn wait_for_rows(path: &Path, t: f64) {
+    let start = Instant::now();
+    loop {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        let last = text
+            .lines()
+            .skip(1)
+            .last()
+            .and_then(|l| l.split(',').next()?.parse::<f64>().ok());
+        if last.is_some_and(|x| x > t) {
+            return;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no rows past {t} s"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn a_log_over_its_cap_is_refused_before_the_run_starts() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let o = out.to_str().unwrap();
+    let s = stand();
+    let (ok, err) = corps_run(&[s.to_str().unwrap(), "-o", o, "--max-log-mb", "0.1"]);
+    assert!(!ok);
+    assert!(err.contains("would take about"), "{err}");
+    assert!(err.contains("max_log_mb"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(!out.exists(), "nothing written");
+    let (ok, err) = corps_run(&[s.to_str().unwrap(), "-o", o, "--max-log-mb=-1"]);
+    assert!(!ok && err.contains("--max-log-mb"), "{err}");
+    let (ok, err) = corps_run(&[
+        s.to_str().unwrap(),
+        "-o",
+        o,
+        "--max-log-mb",
+        "0.5",
+        "--duration",
+        "0.2",
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.join("log.csv").exists());
+}
+
+#[test]
+#[cfg(target_os = "linux")]
+fn a_full_disk_stops_the_run_with_one_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    std::fs::create_dir(&out).unwrap();
+    // The log's file is a device that is always full.
+    std::os::unix::fs::symlink("/dev/full", out.join("log.csv.partial")).unwrap();
+    let s = stand();
+    let (ok, err) = corps_run(&[s.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(!ok);
+    assert!(err.contains("No space left on device"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}
+
+#[test]
+#[cfg(unix)]
+fn a_killed_run_leaves_whole_rows_up_to_its_last_flush() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let s = stand();
+    let mut run = spawn_run(&[
+        s.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--duration",
+        "60",
+    ]);
+    let partial = out.join("log.csv.partial");
+    wait_for_rows(&partial, 1.5);
+    // While it runs, a second run into the same directory is refused.
+    let (ok, err) = corps_run(&[s.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert!(!ok && err.contains("another corps run"), "{err}");
+    run.kill().unwrap();
+    run.wait().unwrap();
+    let text = std::fs::read_to_string(&partial).unwrap();
+    assert!(text.ends_with('\n'), "whole rows only");
+    let mut lines = text.lines();
+    let columns = lines.next().unwrap().split(',').count();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.iter().all(|r| r.len() == columns));
+    assert!(rows.last().unwrap()[0] > 1.5);
+    assert!(
+        !out.join("log.csv").exists(),
+        "a killed run is no finished log"
+    );
+    // The directory is free again.
+    let (ok, err) = corps_run(&[
+        s.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--duration",
+        "0.1",
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.join("log.csv").exists() && !partial.exists());
+}
