@@ -79,7 +79,7 @@ def main() -> None:
             rss = max(x for _, _, rs in rows for x in rs)
             med = statistics.median(b)
             goal = ""
-            if mode == "default" and lone_serial is not None:
+            if mode == "default" and lone_serial is not None and n >= cores:
                 bound = 1.25 * lone_serial * n / cores
                 ratio = med / (lone_serial * n / cores)
                 goal = f"{ratio:.2f}x ideal ({'ok' if med <= bound else 'MISSED'})"

@@ -40,8 +40,12 @@ fn overlapped_walk_is_the_serial_walk() {
         if overlap == Overlap::Always {
             assert_eq!(mo.overlapped_ticks, 3000);
         } else {
-            // The first probe overlaps three windows of 200 ticks, whatever wins.
-            assert!(mo.overlapped_ticks >= 600, "{}", mo.overlapped_ticks);
+            // The adaptive run switched: its probes run both modes.
+            assert!(
+                mo.overlapped_ticks > 0 && mo.overlapped_ticks < 3000,
+                "{}",
+                mo.overlapped_ticks
+            );
         }
     }
     let d = ms.walk.as_ref().unwrap().distance;

@@ -3,9 +3,12 @@
 //! The overlap gains only while a second core is free: alone on a 2-core machine it makes a
 //! torque walk about a fifth faster; beside other runs it only adds hand-overs. A run cannot
 //! see the machine's load, but it can see its own speed: [`Overlap::Adaptive`] times its
-//! ticks in short alternating windows of each mode (a probe), keeps the faster mode for a
-//! while, and probes again, less often while the same mode keeps winning. Both modes step
-//! the simulator bit-identically, so the schedule changes the run's speed, never its result.
+//! ticks in short alternating windows of each mode (a probe, serial first; an overlapped
+//! window is cut short as soon as it is a quarter slower than the serial window before it), keeps the
+//! faster mode for a while, and probes again, less often while the same mode keeps winning. An overlapped
+//! stretch ends early when the run's thread keeps finding the preparation unfinished (the
+//! worker lost its core to another process). Both modes step the simulator bit-identically,
+//! so the schedule changes the run's speed, never its result.
 
 use std::time::Duration;
 
@@ -20,21 +23,34 @@ pub enum Overlap {
     Adaptive,
 }
 
-/// Ticks in one probe window.
-const WINDOW: u32 = 200;
+/// Indices of the modes' windows.
+const OVERLAPPED: usize = 0;
+const SERIAL: usize = 1;
+/// Ticks in one probe window (some 10 ms on TALOS: short, so that a probe costs a lone run
+/// little, and three of each mode, so that one preempted window does not decide).
+const WINDOW: u32 = 100;
 /// Windows of each mode in one probe (alternating).
 const WINDOWS_PER_MODE: usize = 3;
 /// Ticks the winner runs after a probe, doubled while the same mode wins, up to the maximum.
-const FIRST_STRETCH: u32 = 6_000;
+const FIRST_STRETCH: u32 = 8_000;
 const MAX_STRETCH: u32 = 48_000;
+/// An overlapped stretch ends when more than this many ticks of one window had to wait
+/// parked for the preparation.
+const LATE_PER_WINDOW: u32 = WINDOW / 10;
 
 /// The adaptive schedule's state.
 #[derive(Clone, Copy, Debug)]
 enum Phase {
-    /// Window `window` of a probe (even: overlapped, odd: serial).
+    /// Window `window` of a probe (even: serial, odd: overlapped).
     Probe { window: usize, ticks: u32 },
-    /// The probe's winner for `left` more ticks.
-    Stretch { overlap: bool, left: u32 },
+    /// The probe's winner for `left` more ticks; `late` ticks of the current window
+    /// (`tick` ticks in) waited parked for the preparation.
+    Stretch {
+        overlap: bool,
+        left: u32,
+        tick: u32,
+        late: u32,
+    },
 }
 
 /// Decides tick by tick whether to overlap, and learns from the tick times.
@@ -74,7 +90,7 @@ impl OverlapSchedule {
         self.current = match (self.mode, self.phase) {
             (Overlap::Never, _) => false,
             (Overlap::Always, _) => true,
-            (Overlap::Adaptive, Phase::Probe { window, .. }) => window % 2 == 0,
+            (Overlap::Adaptive, Phase::Probe { window, .. }) => window % 2 == 1,
             (Overlap::Adaptive, Phase::Stretch { overlap, .. }) => overlap,
         };
         if self.current {
@@ -85,21 +101,29 @@ impl OverlapSchedule {
         self.current
     }
 
-    /// Records the wall time of the tick just run (step to step).
-    pub(crate) fn record_tick(&mut self, elapsed: Duration) {
+    /// Records the wall time of the tick just run (step to step) and whether it waited
+    /// parked for the preparation.
+    pub(crate) fn record_tick(&mut self, elapsed: Duration, parked: bool) {
         if self.mode != Overlap::Adaptive {
             return;
         }
         self.phase = match self.phase {
             Phase::Probe { window, ticks } => {
                 self.window_time += elapsed;
-                if ticks + 1 < WINDOW {
+                // An overlapped window already a quarter slower than the serial window before
+                // it has lost: stop paying for it (on a loaded machine its ticks are slow).
+                let serial_window = self.windows[SERIAL][window / 2];
+                if window % 2 == 1 && self.window_time > serial_window * 5 / 4 {
+                    self.window_time = Duration::ZERO;
+                    self.settle(false)
+                } else if ticks + 1 < WINDOW {
                     Phase::Probe {
                         window,
                         ticks: ticks + 1,
                     }
                 } else {
-                    self.windows[window % 2][window / 2] = std::mem::take(&mut self.window_time);
+                    let mode = if window % 2 == 1 { OVERLAPPED } else { SERIAL };
+                    self.windows[mode][window / 2] = std::mem::take(&mut self.window_time);
                     if window + 1 < 2 * WINDOWS_PER_MODE {
                         Phase::Probe {
                             window: window + 1,
@@ -110,14 +134,36 @@ impl OverlapSchedule {
                     }
                 }
             }
-            Phase::Stretch { overlap, left } if left > 1 => Phase::Stretch {
+            Phase::Stretch {
                 overlap,
-                left: left - 1,
-            },
-            Phase::Stretch { .. } => Phase::Probe {
-                window: 0,
-                ticks: 0,
-            },
+                left,
+                tick,
+                late,
+            } => {
+                let late = late + u32::from(parked);
+                if left <= 1 || late > LATE_PER_WINDOW {
+                    if left > 1 {
+                        // The machine changed under the stretch: start over.
+                        self.last_winner = None;
+                    }
+                    Phase::Probe {
+                        window: 0,
+                        ticks: 0,
+                    }
+                } else {
+                    let (tick, late) = if tick + 1 == WINDOW {
+                        (0, 0)
+                    } else {
+                        (tick + 1, late)
+                    };
+                    Phase::Stretch {
+                        overlap,
+                        left: left - 1,
+                        tick,
+                        late,
+                    }
+                }
+            }
         };
     }
 
@@ -128,7 +174,12 @@ impl OverlapSchedule {
             w.sort();
             w[WINDOWS_PER_MODE / 2]
         };
-        let overlap = median(&self.windows[0]) < median(&self.windows[1]);
+        let overlap = median(&self.windows[OVERLAPPED]) < median(&self.windows[SERIAL]);
+        self.settle(overlap)
+    }
+
+    /// A stretch of the winner, longer while the same mode keeps winning.
+    fn settle(&mut self, overlap: bool) -> Phase {
         self.stretch = if self.last_winner == Some(overlap) {
             (self.stretch * 2).min(MAX_STRETCH)
         } else {
@@ -138,6 +189,8 @@ impl OverlapSchedule {
         Phase::Stretch {
             overlap,
             left: self.stretch,
+            tick: 0,
+            late: 0,
         }
     }
 
@@ -157,7 +210,10 @@ mod tests {
         let mut s = OverlapSchedule::new(Overlap::Adaptive);
         for _ in 0..ticks {
             let o = s.overlap_this_tick();
-            s.record_tick(Duration::from_micros(if o { overlapped } else { serial }));
+            s.record_tick(
+                Duration::from_micros(if o { overlapped } else { serial }),
+                false,
+            );
         }
         let (o, n) = s.counts();
         o as f64 / (o + n) as f64
@@ -172,12 +228,48 @@ mod tests {
     }
 
     #[test]
+    fn an_overlap_that_is_much_slower_costs_little_to_find_out() {
+        // Overlapped ticks 10x slower (a machine with no free core): each probe pays the
+        // time of 1.25 serial windows for an eighth of an overlapped window; three probes in
+        // 20,000 ticks cost about 3.4%.
+        let mut s = OverlapSchedule::new(Overlap::Adaptive);
+        let mut total = Duration::ZERO;
+        for _ in 0..20_000 {
+            let o = s.overlap_this_tick();
+            let d = Duration::from_micros(if o { 1000 } else { 100 });
+            total += d;
+            s.record_tick(d, o);
+        }
+        let serial_only = Duration::from_micros(100) * 20_000;
+        assert!(
+            total.as_secs_f64() < 1.05 * serial_only.as_secs_f64(),
+            "{total:?}"
+        );
+    }
+
+    #[test]
+    fn an_overlapped_stretch_whose_preparations_come_late_is_probed_again_at_once() {
+        let mut s = OverlapSchedule::new(Overlap::Adaptive);
+        // The probe finds the overlap faster; then its preparations start coming late.
+        for _ in 0..2 * WINDOWS_PER_MODE as u32 * WINDOW {
+            let o = s.overlap_this_tick();
+            s.record_tick(Duration::from_micros(if o { 80 } else { 100 }), false);
+        }
+        assert!(matches!(s.phase, Phase::Stretch { overlap: true, .. }));
+        for _ in 0..=LATE_PER_WINDOW {
+            assert!(s.overlap_this_tick());
+            s.record_tick(Duration::from_micros(80), true);
+        }
+        assert!(matches!(s.phase, Phase::Probe { window: 0, .. }));
+    }
+
+    #[test]
     fn fixed_modes_never_switch() {
         for (mode, expected) in [(Overlap::Never, false), (Overlap::Always, true)] {
             let mut s = OverlapSchedule::new(mode);
             for _ in 0..5_000 {
                 assert_eq!(s.overlap_this_tick(), expected);
-                s.record_tick(Duration::from_micros(if expected { 500 } else { 1 }));
+                s.record_tick(Duration::from_micros(if expected { 500 } else { 1 }), true);
             }
         }
     }

@@ -111,25 +111,25 @@ impl<'scope> Stepper<'scope> {
 
     /// Steps under `cmd`, once the preparation asked for is done.
     pub(crate) fn step(&mut self, cmd: &Command) -> Result<()> {
-        if std::mem::take(&mut self.pending) {
-            self.wait_for_preparation()?;
-        }
+        let parked = std::mem::take(&mut self.pending) && self.wait_for_preparation()?;
         self.shared.lock()?.step(cmd)?;
         let now = Instant::now();
         if let Some(last) = self.last_step.replace(now) {
-            self.schedule.record_tick(now - last);
+            self.schedule.record_tick(now - last, parked);
         }
         Ok(())
     }
 
-    /// Spins briefly, then parks until the worker says the preparation is done.
-    fn wait_for_preparation(&self) -> Result<()> {
+    /// Spins briefly, then parks until the worker says the preparation is done; returns
+    /// whether it had to park (the worker was late: no free core, or a slow preparation).
+    fn wait_for_preparation(&self) -> Result<bool> {
         let Some(worker) = &self.worker else {
-            return Ok(());
+            return Ok(false);
         };
         let done = || self.shared.done.load(Ordering::Acquire) == self.requested;
         let start = Instant::now();
         let mut spins = 0u32;
+        let mut parked = false;
         while !done() {
             spins = spins.wrapping_add(1);
             if !spins.is_multiple_of(64) || start.elapsed() < RUN_SPIN {
@@ -139,9 +139,10 @@ impl<'scope> Stepper<'scope> {
             if worker.is_finished() {
                 bail!("the simulator's preparing thread stopped");
             }
+            parked = true;
             std::thread::park_timeout(PARK_CHECK);
         }
-        Ok(())
+        Ok(parked)
     }
 
     /// How many ticks overlapped and how many ran serially, for the run's report.
