@@ -14,20 +14,28 @@
 //! §4.4: α = 5, β = 1e3, γ = 5e-4):
 //!
 //! ```text
-//! α/2 Σ‖ċ_i − R(θ_i) v_cmd‖² + β/2 Σ‖z_i − z_centre,i(F)‖² + γ/2 Σ‖j_i‖²
+//! α/2 Σ‖ċ_i − v*_i‖² + β/2 Σ‖z_i − z_centre,i(F)‖² + γ/2 Σ‖j_i − j*_i‖²
 //! ```
 //!
-//! with one change to the velocity term while walking: `ċ_i` is the CoM displacement over the
-//! window `W = 1.2 s` (one step) ending at sample i, `(c(τ_i) − c(τ_i − W)) / W`, past CoM
-//! positions taken from a ring of grid-point samples ([`MpcParams::velocity_window`]). With a
-//! 1.0 s single support (ω T_SS ≈ 3.3) the instantaneous CoM speed of a periodic gait swings
-//! between about 0.5× and 1.7× its mean, and the per-sample least-squares fit of the
-//! instantaneous velocity over a 1.6 s horizon settles on gaits slower than the command
-//! (measured 0.076 m/s for 0.1 m/s; 0.0004 m/s for 0.05 m/s sideways). The displacement over
-//! one step is exactly the mean speed for a periodic sagittal motion.
-//!
 //! where `z_centre` is the support foot's centre in single support and moves linearly from the
-//! previous to the next support foot in double support. Constraints:
+//! previous to the next support foot in double support.
+//!
+//! References: seed 002 eq. 9 and 12 compare the velocity with the command,
+//! `v*_i = R(θ_i) v_cmd`, and the jerk with zero. While walking, `v*` and `j*` are here the
+//! CoM velocity and jerk of the periodic gait the command implies (`NominalGait`): the LIPM
+//! whose ZMP is at `z_centre` at every sample, on footprints `P_k = k s ± a`, phase-aligned
+//! with the step timing, where `s = R(θ) v_cmd (T_SS + T_DS)` is the stride (clamped to the
+//! reachable region) and `a = R(θ) [0, (d + |s_y|)/2]` the alternation of the feet about their
+//! mean line (`+` for a left support, `d` the double-support feet distance). That gait costs
+//! nothing, so the closed loop settles on it. Standing and stopping keep the seed's references
+//! with a zero command. With the seed's references every walking gait
+//! pays for its CoM sway (forward its speed swings between about 0.55× and 1.8× its mean,
+//! sideways it reverses at each step) and for the jerk of that sway; both grow with the stride
+//! (sideways `a` grows with `|v_y|`), so the optimum walks slower than the command: 0.076 m/s
+//! for 0.1 m/s forward and 0.0000 m/s for 0.05 m/s sideways; with `v*` alone 0.0963 and
+//! 0.0418 m/s; with `v*` and `j*` 0.1000 and 0.0500 m/s.
+//!
+//! Constraints:
 //! - ZMP at every sample (and at the end of the current 5 ms tick) inside the foot rectangle
 //!   moved to `z_centre` and oriented like each foot involved. In double support this moving
 //!   rectangle lies inside the convex hull of both feet, so the constraint is linear in `F`
@@ -108,13 +116,6 @@ pub struct MpcParams {
     /// 0.2 s transfer (starting 8 cm off the support foot it would diverge by
     /// 0.032 · cosh(ω · 1.0 s) ≈ 0.45 m during the swing).
     pub start_double_support: f64,
-    /// Window `W` of the velocity cost (s), a multiple of the sample period, or 0. With
-    /// `W > 0`, while walking the cost compares the CoM displacement over the window ending
-    /// at each sample, `(c(τ_i) − c(τ_i − W)) / W`, with the commanded velocity (the part of
-    /// the window before now uses the CoM recorded at past grid points); with `W = 0` it
-    /// compares the instantaneous CoM velocity `ċ(τ_i)`, as written in seed 002 eq. 9.
-    /// Standing and stopping always use the instantaneous velocity (command zero).
-    pub velocity_window: f64,
 }
 
 impl Default for MpcParams {
@@ -150,7 +151,6 @@ impl Default for MpcParams {
             freeze_time: 0.1,
             swing_height: 0.05,
             start_double_support: 1.2,
-            velocity_window: 1.2,
         }
     }
 }
@@ -242,15 +242,11 @@ pub struct WalkingMpc {
     pz_u: DMatrix<f64>,
     pv_s: DMatrix<f64>,
     pv_u: DMatrix<f64>,
-    /// Velocity-cost rows: `pw_u U + pw_k` is the (instantaneous or windowed) CoM velocity
-    /// of sample i, per axis (columns of `pw_k`: x, y); `pw_ref` the reference.
-    pw_u: DMatrix<f64>,
-    pw_k: DMatrix<f64>,
-    pw_ref: DMatrix<f64>,
-    /// CoM positions at the last `hist.len()` grid points (ring buffer, newest at `hist_head`).
-    hist: Vec<Vector2<f64>>,
-    hist_head: usize,
-    on_grid: bool,
+    /// Reference CoM velocity of sample i (columns: x, y), see [`NominalGait`].
+    v_ref: DMatrix<f64>,
+    /// Reference jerk of interval i (columns: x, y), see [`NominalGait`].
+    j_ref: DMatrix<f64>,
+    nominal: NominalGait,
     pp_s: DMatrix<f64>,
     pp_u: DMatrix<f64>,
     pa_s: DMatrix<f64>,
@@ -315,15 +311,19 @@ impl WalkingMpc {
                 "horizon too long for 2 previewed footsteps (need N T ≤ 2 SS + DS)",
             ));
         }
-        let w = params.velocity_window;
-        let wm = (w / params.sample_period).round();
-        if !(w.is_finite() && w >= 0.0)
-            || (w > 0.0 && (wm < 1.0 || (w / params.sample_period - wm).abs() > 1e-9))
-        {
+        let step = (params.single_support + params.double_support) / params.sample_period;
+        let per_step = step.round();
+        if (step - per_step).abs() > 1e-9 {
             return Err(WalkError::InvalidParameter(
-                "velocity window must be 0 or a positive multiple of the sample period",
+                "step period must be a multiple of the sample period",
             ));
         }
+        let nominal = NominalGait::new(
+            params.sample_period,
+            per_step as usize,
+            params.double_support,
+            params.lipm.com_height / params.lipm.gravity,
+        )?;
         let r = &params.reachable;
         if !(r.x_min < r.x_max && 0.0 < r.y_min && r.y_min < r.y_max) {
             return Err(WalkError::InvalidParameter(
@@ -342,12 +342,9 @@ impl WalkingMpc {
             pz_u: DMatrix::zeros(n, n),
             pv_s: DMatrix::zeros(n, 3),
             pv_u: DMatrix::zeros(n, n),
-            pw_u: DMatrix::zeros(n, n),
-            pw_k: DMatrix::zeros(n, 2),
-            pw_ref: DMatrix::zeros(n, 2),
-            hist: vec![mid; (wm as usize).max(1)],
-            hist_head: 0,
-            on_grid: false,
+            v_ref: DMatrix::zeros(n, 2),
+            j_ref: DMatrix::zeros(n, 2),
+            nominal,
             pp_s: DMatrix::zeros(n, 3),
             pp_u: DMatrix::zeros(n, n),
             pa_s: DMatrix::zeros(n, 3),
@@ -533,9 +530,6 @@ impl WalkingMpc {
                     };
                     self.t_in_step = 0.0;
                     self.frozen = None;
-                    // the step grid restarts here: the window's past is the CoM at rest
-                    let c = Vector2::new(self.com_x[0], self.com_y[0]);
-                    self.hist.fill(c);
                 }
             }
             Gait::Walking { step, stop, .. } => match (*stop, moving) {
@@ -669,6 +663,79 @@ impl WalkingMpc {
     }
 }
 
+/// The periodic gait of the LIPM whose ZMP is at the support centre `z_centre` of the module
+/// doc at every sample, on the sample grid of one regular step (`m` samples). By linearity it
+/// is the sum of two unit responses per axis, scaled by the stride `s` and by the
+/// alternation `±a` of the footprints about their mean line (`+` for a left support):
+///
+/// ```text
+/// footprint P_k = s k ± a,   x(t + step) = x(t) + [s, 0, 0]ᵀ  (stride)
+///                            x(t + step) = −x(t)               (alternation)
+/// ```
+///
+/// Each response solves `m + 3` linear equations for `[x₀, j₀ … j_{m−1}]`: the ZMP
+/// `[1, 0, −z_c/g] x_l = z_centre(l T)` at `l = 1 … m` (seed 002 eq. 5–7) and the periodicity.
+#[derive(Debug, Clone)]
+struct NominalGait {
+    /// Samples per step.
+    m: usize,
+    /// CoM velocity at the grid points `l = 0 … m − 1` of a step (`[stride, alternation]`).
+    vel: [Vec<f64>; 2],
+    /// CoM jerk over the interval from grid point `l` to `l + 1`.
+    jerk: [Vec<f64>; 2],
+}
+
+impl NominalGait {
+    fn new(t: f64, m: usize, ds: f64, h: f64) -> Result<Self, WalkError> {
+        let (a, b) = jerk_integrator(t);
+        let dim = m + 3;
+        let mut vel = [vec![0.0; m], vec![0.0; m]];
+        let mut jerk = [vec![0.0; m], vec![0.0; m]];
+        for (r, (prev, sign)) in [(0.0, 1.0), (-1.0, -1.0)].into_iter().enumerate() {
+            // x_l = Φ_l [x₀; j], Φ_l a 3 × dim block
+            let mut phi = nalgebra::Matrix3xX::<f64>::zeros(dim);
+            phi.view_mut((0, 0), (3, 3)).fill_with_identity();
+            let mut lhs = DMatrix::<f64>::zeros(dim, dim);
+            let mut rhs = nalgebra::DVector::<f64>::zeros(dim);
+            for l in 1..=m {
+                let mut next = a * &phi;
+                for c in 0..3 {
+                    next[(c, 3 + l - 1)] += b[c];
+                }
+                phi = next;
+                let local = l as f64 * t;
+                let centre = if local < ds {
+                    prev + (1.0 - prev) * local / ds
+                } else {
+                    1.0
+                };
+                for c in 0..dim {
+                    lhs[(l - 1, c)] = phi[(0, c)] - h * phi[(2, c)];
+                }
+                rhs[l - 1] = centre;
+            }
+            // x_m − sign x₀ = [1 + prev, 0, 0]: the stride shifts by 1, the alternation flips
+            for c in 0..3 {
+                for col in 0..dim {
+                    lhs[(m + c, col)] = phi[(c, col)];
+                }
+                lhs[(m + c, c)] -= sign;
+            }
+            rhs[m] = 1.0 + prev;
+            let y = lhs.lu().solve(&rhs).ok_or(WalkError::InvalidParameter(
+                "no periodic gait on the sample grid",
+            ))?;
+            let mut x = Vector3::new(y[0], y[1], y[2]);
+            for l in 0..m {
+                vel[r][l] = x[1];
+                jerk[r][l] = y[3 + l];
+                x = a * x + b * y[3 + l];
+            }
+        }
+        Ok(Self { m, vel, jerk })
+    }
+}
+
 fn stance(x: f64, y: f64, yaw: f64, d: f64) -> (FootPose, FootPose) {
     let off = rotation(yaw) * Vector2::new(0.0, 0.5 * d);
     (
@@ -697,11 +764,7 @@ impl WalkingMpc {
         self.cmd = cmd;
         self.handle_command();
         self.build_predictions();
-        if self.on_grid {
-            self.hist_head = (self.hist_head + 1) % self.hist.len();
-            self.hist[self.hist_head] = Vector2::new(self.com_x[0], self.com_y[0]);
-        }
-        self.build_velocity_rows();
+        self.build_references();
         self.plan_footstep_yaws();
         self.build_qp();
         let sol = self.solver.solve(&self.qp)?;
@@ -722,8 +785,8 @@ impl WalkingMpc {
     fn build_predictions(&mut self) {
         let (n, t) = (self.n, self.p.sample_period);
         let rem = self.t_in_step % t;
-        self.on_grid = t - rem < 1e-9 || rem < 1e-9;
-        let tau1 = if self.on_grid { t } else { t - rem };
+        let on_grid = t - rem < 1e-9 || rem < 1e-9;
+        let tau1 = if on_grid { t } else { t - rem };
         let h = self.p.lipm.com_height / self.p.lipm.gravity;
         let (a1, b1) = jerk_integrator(tau1);
         let (at, bt) = jerk_integrator(t);
@@ -761,61 +824,71 @@ impl WalkingMpc {
         self.supports[n] = self.support_at(self.p.control_period);
     }
 
-    /// Rows of the velocity cost (see [`MpcParams::velocity_window`]) and their reference.
-    fn build_velocity_rows(&mut self) {
-        let (n, t) = (self.n, self.p.sample_period);
-        let walking = matches!(self.gait, Gait::Walking { stop: None, .. });
-        let (v, om) = if walking {
-            (Vector2::new(self.cmd.vx, self.cmd.vy), self.cmd.yaw_rate)
+    /// Step of the sample grid point at time `tau` from now: `(k, l)` with `k` steps after the
+    /// current one and `l` sample periods into the regular part of that step (`None` inside
+    /// the extra double support of a step from standing).
+    fn grid_phase(&self, tau: f64) -> Option<(u64, usize)> {
+        let (t, m) = (self.p.sample_period, self.nominal.m);
+        let u = self.t_in_step + tau;
+        let pc = self.current_period();
+        let (mut k, local) = if u < pc - 0.5 * t {
+            (0u64, u - (pc - self.step_period()))
         } else {
-            (Vector2::zeros(), 0.0)
+            let r = ((u - pc) / self.step_period() + 1e-9).floor().max(0.0);
+            (1 + r as u64, u - pc - r * self.step_period())
         };
-        let x0 = [self.com_x, self.com_y];
-        if !walking || self.p.velocity_window <= 0.0 {
-            self.pw_u.copy_from(&self.pv_u);
-            for i in 0..n {
-                let r = rotation(self.yaw_ref + om * self.tau[i]) * v;
-                for ax in 0..2 {
-                    self.pw_k[(i, ax)] = row3(&self.pv_s, i).dot(&x0[ax]);
-                    self.pw_ref[(i, ax)] = r[ax];
-                }
-            }
-            return;
+        if local < -0.5 * t {
+            return None;
         }
-        let m = self.hist.len();
-        let w = m as f64 * t;
-        // mean of R(ψ) v over the window for a yaw ψ moving at the commanded rate:
-        // R(ψ_mid) v · sin(ω W / 2) / (ω W / 2)
-        let half = 0.5 * om * w;
-        let sinc = if half.abs() < 1e-8 {
-            1.0
-        } else {
-            half.sin() / half
+        let mut l = (local / t).round().max(0.0) as usize;
+        if l >= m {
+            k += 1;
+            l -= m;
+        }
+        Some((k, l))
+    }
+
+    /// References of the velocity and jerk terms (module doc): the velocity `v*` at each
+    /// sample and the jerk `j*` over each interval of the periodic gait the command implies,
+    /// phase-aligned with the step timing. Zero when standing or stopping, and during the extra
+    /// double support of a step from standing.
+    fn build_references(&mut self) {
+        self.v_ref.fill(0.0);
+        self.j_ref.fill(0.0);
+        let Gait::Walking {
+            swing, stop: None, ..
+        } = self.gait
+        else {
+            return;
+        };
+        let (n, t) = (self.n, self.p.sample_period);
+        let (period, r) = (self.step_period(), self.p.reachable);
+        // stride per step and mean lateral feet distance in the robot frame, inside the
+        // reachable region (seed 002 §5: stride = v × step period)
+        let d0 = self.p.feet_distance.max(r.y_min);
+        let fwd = (self.cmd.vx * period).clamp(r.x_min, r.x_max);
+        let lat_max = (0.5 * (r.y_max - d0)).max(0.0);
+        let lat = (self.cmd.vy * period).clamp(-lat_max, lat_max);
+        let stride = Vector2::new(fwd, lat);
+        let half_width = Vector2::new(0.0, 0.5 * (d0 + lat.abs()));
+        let om = self.cmd.yaw_rate;
+        // side of the support foot of step c + k: the current support foot for even k
+        let side = |k: u64| {
+            let sup = if k % 2 == 0 { swing.other() } else { swing };
+            sup.side()
         };
         for i in 0..n {
-            // τ_i − W is the sample i − m, or the grid point m − i before the first sample
-            for a in 0..n {
-                let mut d = self.pp_u[(i, a)];
-                if i >= m {
-                    d -= self.pp_u[(i - m, a)];
-                }
-                self.pw_u[(i, a)] = d / w;
+            let rot = rotation(self.yaw_ref + om * self.tau[i]);
+            let (s, a) = (rot * stride, rot * half_width);
+            if let Some((k, l)) = self.grid_phase(self.tau[i]) {
+                let (vd, va) = (self.nominal.vel[0][l], self.nominal.vel[1][l]);
+                let v = s * vd + a * (side(k) * va);
+                self.v_ref.set_row(i, &v.transpose());
             }
-            let past = if i >= m {
-                None
-            } else {
-                let k = m - i; // 1 = newest
-                Some(self.hist[(self.hist_head + m + 1 - k) % m])
-            };
-            let r = rotation(self.yaw_ref + om * (self.tau[i] - 0.5 * w)) * v * sinc;
-            for ax in 0..2 {
-                let now = row3(&self.pp_s, i).dot(&x0[ax]);
-                let before = match past {
-                    Some(c) => c[ax],
-                    None => row3(&self.pp_s, i - m).dot(&x0[ax]),
-                };
-                self.pw_k[(i, ax)] = (now - before) / w;
-                self.pw_ref[(i, ax)] = r[ax];
+            if let Some((k, l)) = self.grid_phase(self.tau[i] - t) {
+                let (jd, ja) = (self.nominal.jerk[0][l], self.nominal.jerk[1][l]);
+                let j = s * jd + a * (side(k) * ja);
+                self.j_ref.set_row(i, &j.transpose());
             }
         }
     }
@@ -883,12 +956,13 @@ impl WalkingMpc {
         qp.u.fill(f64::INFINITY);
         qp.lx.fill(f64::NEG_INFINITY);
         qp.ux.fill(f64::INFINITY);
-        // jerk blocks: α Pvuᵀ Pvu + β Pzuᵀ Pzu + γ I (same for both axes)
+        // jerk blocks: α Pvuᵀ Pvu + β Pzuᵀ Pzu + γ I (same for both axes); gradients
+        // α Pvuᵀ (Pvs x₀ − v*) + β Pzuᵀ (Pzs x₀ − z_centre) − γ j* (module doc)
         for a in 0..n {
             for b in 0..=a {
                 let mut s = 0.0;
                 for i in 0..n {
-                    s += alpha * self.pw_u[(i, a)] * self.pw_u[(i, b)]
+                    s += alpha * self.pv_u[(i, a)] * self.pv_u[(i, b)]
                         + beta * self.pz_u[(i, a)] * self.pz_u[(i, b)];
                 }
                 if a == b {
@@ -907,10 +981,11 @@ impl WalkingMpc {
                 let (ou, of) = if ax == 0 { (0, fx) } else { (n, fy) };
                 let fc = sup.w[0] * coord(&fixed[0], ax) + sup.w[1] * coord(&fixed[1], ax);
                 let d = row3(&self.pz_s, i).dot(x0a) - fc;
-                let dv = self.pw_k[(i, ax)] - self.pw_ref[(i, ax)];
+                let dv = row3(&self.pv_s, i).dot(x0a) - self.v_ref[(i, ax)];
                 for a in 0..n {
-                    qp.g[ou + a] += beta * self.pz_u[(i, a)] * d + alpha * self.pw_u[(i, a)] * dv;
+                    qp.g[ou + a] += beta * self.pz_u[(i, a)] * d + alpha * self.pv_u[(i, a)] * dv;
                 }
+                qp.g[ou + i] -= gamma * self.j_ref[(i, ax)];
                 for j in 0..nf {
                     let wj = sup.w[2 + j];
                     if wj == 0.0 {
@@ -1217,4 +1292,41 @@ fn coord(p: &FootPose, axis: usize) -> f64 {
 
 fn row3(m: &DMatrix<f64>, i: usize) -> Vector3<f64> {
     Vector3::new(m[(i, 0)], m[(i, 1)], m[(i, 2)])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Re-simulates both unit responses of the TALOS gait from their grid velocities and jerks:
+    /// the ZMP lies on `z_centre` at every sample and the step closes periodically.
+    #[test]
+    fn nominal_gait_tracks_the_support_centres() {
+        let p = MpcParams::default();
+        let (t, ds) = (p.sample_period, p.double_support);
+        let h = p.lipm.com_height / p.lipm.gravity;
+        let g = NominalGait::new(t, 12, ds, h).unwrap();
+        let (a, b) = jerk_integrator(t);
+        for (r, prev, sign) in [(0, 0.0, 1.0), (1, -1.0, -1.0)] {
+            // position and acceleration at l = 0 from the ZMP and velocity relations
+            let (v0, v1) = (g.vel[r][0], g.vel[r][1]);
+            let j0 = g.jerk[r][0];
+            let acc0 = (v1 - v0 - j0 * t * t / 2.0) / t;
+            let mut x = Vector3::new(prev + h * acc0, v0, acc0);
+            let x0 = x;
+            for l in 0..12 {
+                assert!((x[1] - g.vel[r][l]).abs() < 1e-9, "{r} {l}");
+                x = a * x + b * g.jerk[r][l];
+                let local = (l + 1) as f64 * t;
+                let centre = if local < ds {
+                    prev + (1.0 - prev) * local / ds
+                } else {
+                    1.0
+                };
+                assert!((x[0] - h * x[2] - centre).abs() < 1e-9, "{r} {l}");
+            }
+            let shift = Vector3::new(1.0 + prev, 0.0, 0.0);
+            assert!((x - sign * x0 - shift).norm() < 1e-9, "{r}");
+        }
+    }
 }

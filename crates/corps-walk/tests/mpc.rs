@@ -56,14 +56,19 @@ fn mean_velocity(refs: &[WalkingReference], t0: f64, t1: f64) -> (f64, f64) {
     ((b.com.x - a.com.x) / dt, (b.com.y - a.com.y) / dt)
 }
 
-/// Relative tolerance of the steady-state mean speed against the command. The mean is taken
-/// over the last two full gait cycles (2 × 2 × 1.2 s), so the large speed oscillation inside a
-/// step (forward: 0.05…0.17 m/s at 0.1 m/s) cancels and the mean is exact for a periodic gait.
-/// What remains is the trade-off of the velocity cost (α = 5) against ZMP centring (β = 1e3)
-/// and jerk (γ = 5e-4) with seed 002's weights: measured forward 0.0929 / 0.0989 / 0.1001 m/s
-/// for α = 5 / 50 / 500 at 0.1 m/s, so the formulation itself is unbiased and the residual
-/// (≈ 7 % forward, ≈ 9 % lateral at α = 5) is the weights' compromise. 10 % bounds it.
-const SPEED_TOL: f64 = 0.10;
+/// Relative tolerance of the steady-state mean speed against the command (issue 26: 2 %). The
+/// mean is taken over the last two full gait cycles (2 × 2 × 1.2 s), so the large speed
+/// oscillation inside a step (forward: 0.05…0.17 m/s at 0.1 m/s) and the lateral sway cancel
+/// and the mean is exact for a periodic gait. Measured: 0.1000 m/s forward, ±0.0500 m/s
+/// sideways (the MPC's references are the periodic gait of the command, see `corps_walk::mpc`).
+const SPEED_TOL: f64 = 0.02;
+
+/// Relative tolerance of two speeds that are not the steady straight gait `SPEED_TOL` bounds:
+/// the forward half of the reversal, whose window starts 1.2 s after standing so that the first
+/// 2.2 s step from standing lies in it (measured 0.0928 m/s for 0.1 m/s), and the chord of a
+/// turn (measured 0.0998 m/s for a 0.1000 m/s chord at 0.01 rad/s, 0.0895 for 0.0962 at
+/// 0.2 rad/s: the turning gap is not analysed yet).
+const LOOSE_SPEED_TOL: f64 = 0.10;
 
 /// Two gait cycles (left + right step, 2 × 1.2 s).
 const TWO_CYCLES: f64 = 4.8;
@@ -118,13 +123,8 @@ fn mpc_walks_sideways_at_the_reachable_limit() {
 }
 
 /// Lateral commands inside the reachable region (±0.05 m/s < 0.0833 m/s), both directions:
-/// steady mean within `SPEED_TOL` of the command. KNOWN GAP (ignored): measured 0.0450 m/s
-/// (−10.0 %) at 0.05 m/s. Before the windowed velocity cost the robot did not walk sideways
-/// at all at this command (0.0004 m/s). The 1.2 s window spans one step, over which the
-/// lateral sway does not cancel (it is periodic over two steps), so the sway still competes
-/// with the lateral speed; a two-step window (2.4 s) made the QP infeasible at 0.2 m/s.
+/// steady mean within `SPEED_TOL` of the command (measured ±0.0500 m/s).
 #[test]
-#[ignore = "known gap: 0.0450 m/s at 0.05 m/s lateral (−10.0 %), see doc"]
 fn mpc_walks_sideways_within_reach() {
     for vy_cmd in [0.05, -0.05] {
         let mut mpc = new_mpc();
@@ -141,7 +141,8 @@ fn mpc_walks_sideways_within_reach() {
 }
 
 /// Seed 002 S4 (Figure 12 right): forward 0.1 m/s, then backward −0.1 m/s: the motion
-/// reverses, the ZMP stays in the support polygon; both steady means within `SPEED_TOL`.
+/// reverses, the ZMP stays in the support polygon; the backward steady mean within
+/// `SPEED_TOL`, the forward mean (which includes the start) within `LOOSE_SPEED_TOL`.
 #[test]
 fn mpc_reverses() {
     let mut mpc = new_mpc();
@@ -154,7 +155,7 @@ fn mpc_reverses() {
         "reversal: forward {vf:.4}, backward {vb:.4} m/s, worst ZMP {:.4} m",
         r.worst_zmp
     );
-    assert!((vf - 0.1).abs() <= SPEED_TOL * 0.1, "{vf}");
+    assert!((vf - 0.1).abs() <= LOOSE_SPEED_TOL * 0.1, "{vf}");
     assert!((vb + 0.1).abs() <= SPEED_TOL * 0.1, "{vb}");
     assert!(r.worst_zmp < 1e-6);
 }
@@ -162,7 +163,7 @@ fn mpc_reverses() {
 /// Seed 002 S6: turning. Footstep yaws follow the integrated yaw command: the waist (mean of
 /// the feet yaws) lags the reference yaw by at most one step's worth of rotation. Speed: over
 /// the last two gait cycles the CoM chord must match the chord of the commanded arc,
-/// `v W sinc(ω W / 2)`, within `SPEED_TOL`.
+/// `v W sinc(ω W / 2)`, within `LOOSE_SPEED_TOL`.
 #[test]
 fn mpc_turns() {
     for omega in [0.01, 0.2] {
@@ -177,7 +178,7 @@ fn mpc_turns() {
             "turning {omega} rad/s: chord speed {speed:.4} m/s (command arc {chord_speed:.4})"
         );
         assert!(
-            (speed - chord_speed).abs() <= SPEED_TOL * chord_speed,
+            (speed - chord_speed).abs() <= LOOSE_SPEED_TOL * chord_speed,
             "{speed}"
         );
         let last = r.refs.last().unwrap();
