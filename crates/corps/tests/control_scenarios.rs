@@ -3,6 +3,7 @@
 //! `corps run` does and asserts the bound on the metrics the command prints.
 
 use corps::run::{run_file, Metrics, RunOptions};
+use corps_loop::verdict::Verdict;
 use std::path::PathBuf;
 
 fn run(name: &str) -> Metrics {
@@ -23,6 +24,7 @@ fn run(name: &str) -> Metrics {
         assert!(out.path().join(file).is_file(), "{file} not written");
     }
     assert_eq!(m.fallbacks, 0, "{:?}", m.first_fallback);
+    assert_eq!(m.verdict.verdict, Verdict::Completed, "{}", m.verdict);
     m
 }
 

@@ -140,7 +140,7 @@ fn a_short_stand_writes_the_log_and_the_plots() {
     for line in [
         "simulated        0.300 s",
         "real-time factor",
-        "fell             no",
+        "verdict          completed",
     ] {
         assert!(run.stdout.contains(line), "{}", run.stdout);
     }
@@ -211,7 +211,7 @@ fn the_shipped_scenarios_run() {
         );
         assert!(run.ok, "{name}: {}", run.stderr);
         assert!(
-            run.stdout.contains("fell             no"),
+            run.stdout.contains("verdict          completed"),
             "{name}: {}",
             run.stdout
         );
@@ -339,15 +339,13 @@ fn bad_scenarios_fail_with_one_line_naming_the_key() {
 }
 
 #[test]
-fn a_failing_run_leaves_the_previous_log_untouched() {
+fn a_diverging_run_ends_with_its_verdict_and_a_bad_file_touches_nothing() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
     let good = scenario(tmp.path(), "good.toml", "duration = 0.05\n");
     assert!(corps_sim(&good, &["-o", "out"], tmp.path()).ok);
-    let log = std::fs::read(out.join("log.csv")).unwrap();
-    let plot = std::fs::read(out.join("com.png")).unwrap();
-    // A gigantic push makes the simulation diverge part-way through the run (t = 0.02 s),
-    // after the new log has received rows.
+    // A gigantic push makes the simulation diverge part-way through the run (t = 0.02 s):
+    // the run ends there with the verdict `diverged`, its log up to then, and exit status 1.
     let diverging = scenario(
         tmp.path(),
         "diverging.toml",
@@ -356,13 +354,24 @@ fn a_failing_run_leaves_the_previous_log_untouched() {
     let run = corps_sim(&diverging, &["-o", "out"], tmp.path());
     assert!(!run.ok);
     assert!(
-        run.stderr.contains("diverged at t = 0.02"),
+        run.stdout.contains("verdict          diverged at t = 0.02"),
+        "{}",
+        run.stdout
+    );
+    assert!(
+        run.stderr.contains("the run ended diverged"),
         "{}",
         run.stderr
     );
     assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
-    assert!(std::fs::read(out.join("log.csv")).unwrap() == log);
-    assert!(std::fs::read(out.join("com.png")).unwrap() == plot);
+    let (header, rows) = read_csv(&out.join("log.csv"));
+    let t = column(&header, "t_s");
+    assert!(
+        rows.last().unwrap()[t] < 0.03,
+        "the log stops at the divergence"
+    );
+    let log = std::fs::read(out.join("log.csv")).unwrap();
+    let plot = std::fs::read(out.join("com.png")).unwrap();
     // A bad file fails before touching anything either.
     let bad = scenario(
         tmp.path(),
@@ -371,6 +380,7 @@ fn a_failing_run_leaves_the_previous_log_untouched() {
     );
     assert!(!corps_sim(&bad, &["-o", "out"], tmp.path()).ok);
     assert!(std::fs::read(out.join("log.csv")).unwrap() == log);
+    assert!(std::fs::read(out.join("com.png")).unwrap() == plot);
     let leftovers: Vec<_> = std::fs::read_dir(&out)
         .unwrap()
         .map(|e| e.unwrap().file_name())

@@ -4,6 +4,7 @@
 //! plan. Where the thesis gives a figure, the metrics must match or beat it.
 
 use corps::run::{run_file, Metrics, RunOptions};
+use corps_loop::verdict::Verdict;
 use std::path::PathBuf;
 
 fn walk(name: &str) -> Metrics {
@@ -15,6 +16,7 @@ fn walk(name: &str) -> Metrics {
         .unwrap()
         .metrics;
     println!("{m}");
+    assert_eq!(m.verdict.verdict, Verdict::Completed, "{}", m.verdict);
     assert!(
         m.min_base_height > 0.6,
         "fell: base at {:.3} m",

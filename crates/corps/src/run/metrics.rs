@@ -2,6 +2,7 @@
 //! average / standard deviation / peak per axis, contact forces, base drift and foot slip,
 //! mechanical work (Eq 4.16's E_m and E_m+), and the controller's time per tick.
 
+use corps_loop::verdict::VerdictReport;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -241,6 +242,8 @@ pub struct Metrics {
     pub walk: Option<WalkMetrics>,
     /// The documents' figures, printed beside ours.
     pub thesis: Option<ThesisFigures>,
+    /// How the run ended.
+    pub verdict: VerdictReport,
 }
 
 fn row(
@@ -371,13 +374,14 @@ impl fmt::Display for Metrics {
             t.avg_us, t.p99_us, t.peak_us
         )?;
         match &self.first_fallback {
-            None => writeln!(f, "  safe command: never used"),
+            None => writeln!(f, "  safe command: never used")?,
             Some(r) => writeln!(
                 f,
                 "  safe command used on {} ticks; first: {r}",
                 self.fallbacks
-            ),
+            )?,
         }
+        writeln!(f, "  verdict: {}", self.verdict)
     }
 }
 

@@ -46,6 +46,7 @@ use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
 use controller::{behind_stabilizer, IkController, Measured, TsidController, TsidMode};
 use corps_control::stabilizer::{StabilizerOutput, Wrench};
+use corps_loop::verdict::{TickSample, Verdict, VerdictObserver};
 use corps_model::spatial::Se3;
 use corps_model::{com_at_placements, frame_placement, Model};
 use corps_sim::Simulator;
@@ -181,7 +182,8 @@ pub fn run(args: RunArgs) -> Result<()> {
         args.duration,
         options,
     )?;
-    print_report(&report)
+    print_report(&report)?;
+    report.check_expected()
 }
 
 fn print_report(report: &RunReport) -> Result<()> {
@@ -202,8 +204,25 @@ fn print_report(report: &RunReport) -> Result<()> {
 /// What a run produced.
 pub struct RunReport {
     pub metrics: Metrics,
+    /// The verdict the scenario expects.
+    pub expected: Verdict,
     pub dir: PathBuf,
     pub files: Vec<PathBuf>,
+}
+
+impl RunReport {
+    /// An error when the run ended otherwise than its scenario expects.
+    pub fn check_expected(&self) -> Result<()> {
+        let v = &self.metrics.verdict;
+        if v.verdict != self.expected {
+            bail!(
+                "the run ended {v} (the scenario expects {}; outputs in {})",
+                self.expected,
+                self.dir.display()
+            );
+        }
+        Ok(())
+    }
 }
 
 /// Reads, runs and records the scenario at `path`. `output` replaces the output directory,
@@ -231,7 +250,8 @@ pub fn run_main_job() -> Result<()> {
         None,
         RunOptions::interactive(),
     )?;
-    print_report(&report)
+    print_report(&report)?;
+    report.check_expected()
 }
 
 /// Runs scenario `text`, read from `path` (which names the run and anchors relative paths).
@@ -358,6 +378,7 @@ pub fn run_scenario(
     for _ in 0..settle_ticks {
         sim.step(&hold)?;
     }
+    let handover = sim.time();
     // Pushes count from the handover (the setup added none).
     let pushes = crate::sim_cmd::pushes::schedule(&scenario.pushes, sim.time(), scenario.duration)
         .map_err(|e| anyhow!("{e}"))?;
@@ -457,12 +478,17 @@ pub fn run_scenario(
     let mut row = Vec::with_capacity(header.len());
     let mut plot_buffer = PlotBuffer::new(header.len());
     let mut tick_time = TickTimer::default();
+    let support = |feet: &[Se3; 2]| feet[0].translation.z.min(feet[1].translation.z);
+    let mut verdict =
+        VerdictObserver::new(scenario.verdict, mass * GRAVITY, com0.z - support(&feet0))
+            .context("verdict")?;
     let mut force_sum = [0.0; 2];
     let mut progress = Progress::new(ticks, dt, options.progress);
     // The controller reads the state from these copies while the simulator prepares its
     // next step.
     let (mut q, mut v) = (q, v);
     let shared = stepper::Shared::new(sim);
+    let mut ticks_run = 0;
     let overlap_counts = std::thread::scope(|scope| -> Result<(u64, u64)> {
         let mut stepper = Stepper::new(scope, &shared, options.overlap);
         for tick in 0..ticks {
@@ -497,6 +523,7 @@ pub fn run_scenario(
             let reason = ctrl.tick(t, q.as_slice(), v.as_slice(), &targets, &measured);
             let us = start.elapsed().as_secs_f64() * 1e6;
             tick_time.push(us);
+            let safe_command = reason.is_some();
             if let Some(r) = reason {
                 m.fallbacks += 1;
                 m.first_fallback
@@ -528,7 +555,23 @@ pub fn run_scenario(
                 log.row(&row)?;
             }
             plot_buffer.push(&row);
-            stepper.step(ctrl.command())?;
+            ticks_run = tick + 1;
+            let sample = TickSample {
+                t,
+                com_height: com.z - support(&placements),
+                base_speed: Vector3::new(v[0], v[1], v[2]).norm(),
+                total_contact_force: contact.total,
+                other_contact_force: contact.other,
+                state_finite: q.iter().chain(v.iter()).all(|x| x.is_finite()),
+                safe_command,
+            };
+            if verdict.observe(&sample).is_some() {
+                break;
+            }
+            if let Some((t, why)) = stepper.step(ctrl.command())? {
+                verdict.diverged(t - handover, format!("the simulation: {why}"));
+                break;
+            }
             progress.tick(tick);
         }
         Ok(stepper.overlap_counts())
@@ -536,6 +579,8 @@ pub fn run_scenario(
     let sim = shared.into_inner()?;
     progress.finish();
     m.tick_time = tick_time.summary();
+    m.duration = ticks_run as f64 * dt;
+    m.verdict = verdict.finish(m.duration);
     m.overlapped_ticks = overlap_counts.0;
     m.thesis = scenario.thesis.clone();
     if let Some(walk) = plan.walk() {
@@ -563,7 +608,7 @@ pub fn run_scenario(
         });
     }
     for (foot, sum) in m.feet.iter_mut().zip(force_sum) {
-        foot.force_mean = sum / ticks.max(1) as f64;
+        foot.force_mean = sum / ticks_run.max(1) as f64;
     }
     let mut files = vec![
         log.finish()?,
@@ -579,6 +624,7 @@ pub fn run_scenario(
     }
     Ok(RunReport {
         metrics: m,
+        expected: scenario.expect,
         dir: dir.to_path_buf(),
         files,
     })
@@ -611,6 +657,8 @@ struct ContactSample {
     foot_wrenches: [Wrench; 2],
     /// Total force on other bodies (N).
     other: f64,
+    /// Norm of the total contact force (N).
+    total: f64,
 }
 
 /// ZMP and forces from the simulator's contact points (world frame):
@@ -623,11 +671,13 @@ fn measure_contacts(sim: &Simulator, foot_joints: &[usize; 2], soles: &[Se3; 2])
     let mut foot_fz = [0.0; 2];
     let mut world = [(Vector3::zeros(), Vector3::zeros()); 2];
     let mut other = 0.0;
+    let mut total = Vector3::zeros();
     for ((f, p), cp) in c.point_forces.iter().zip(&c.point_positions).zip(points) {
         // Most sampled points are clear of the ground: they add nothing to any sum.
         if *f == Vector3::zeros() {
             continue;
         }
+        total += f;
         fz += f.z;
         zf += p.z * f.z;
         match foot_joints.iter().position(|j| *j == cp.joint) {
@@ -650,6 +700,7 @@ fn measure_contacts(sim: &Simulator, foot_joints: &[usize; 2], soles: &[Se3; 2])
             foot_fz,
             foot_wrenches,
             other,
+            total: total.norm(),
         };
     }
     let plane_z = zf / fz;
@@ -664,6 +715,7 @@ fn measure_contacts(sim: &Simulator, foot_joints: &[usize; 2], soles: &[Se3; 2])
         foot_fz,
         foot_wrenches,
         other,
+        total: total.norm(),
     }
 }
 

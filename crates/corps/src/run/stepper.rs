@@ -11,7 +11,7 @@
 
 use super::overlap::{Overlap, OverlapSchedule};
 use anyhow::{anyhow, bail, Result};
-use corps_sim::{Command, Simulator};
+use corps_sim::{Command, SimError, Simulator};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Mutex, MutexGuard};
 use std::thread::{Scope, ScopedJoinHandle, Thread};
@@ -109,15 +109,19 @@ impl<'scope> Stepper<'scope> {
         self.pending = true;
     }
 
-    /// Steps under `cmd`, once the preparation asked for is done.
-    pub(crate) fn step(&mut self, cmd: &Command) -> Result<()> {
+    /// Steps under `cmd`, once the preparation asked for is done. A diverged simulation is
+    /// no error here but the run's end: its time and reason.
+    pub(crate) fn step(&mut self, cmd: &Command) -> Result<Option<(f64, String)>> {
         let parked = std::mem::take(&mut self.pending) && self.wait_for_preparation()?;
-        self.shared.lock()?.step(cmd)?;
+        match self.shared.lock()?.step(cmd) {
+            Err(SimError::Diverged { t, reason }) => return Ok(Some((t, reason))),
+            other => other?,
+        }
         let now = Instant::now();
         if let Some(last) = self.last_step.replace(now) {
             self.schedule.record_tick(now - last, parked);
         }
-        Ok(())
+        Ok(None)
     }
 
     /// Spins briefly, then parks until the worker says the preparation is done; returns

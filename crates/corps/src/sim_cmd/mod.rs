@@ -15,6 +15,7 @@ mod summary;
 
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
+use corps_loop::verdict::{TickSample, VerdictObserver};
 use corps_model::{center_of_mass, forward_kinematics_placements, frame_placement, Data};
 use nalgebra::Vector3;
 use scenario::Scenario;
@@ -72,10 +73,19 @@ pub fn run(args: SimArgs) -> Result<()> {
     // A closed pipe (`corps sim ... | head`) is not an error of the run.
     match write!(std::io::stdout().lock(), "{summary}") {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-            Err(e).context("printing the summary")
+            return Err(e).context("printing the summary")
         }
-        _ => Ok(()),
+        _ => {}
     }
+    if summary.verdict.verdict != scenario.expect {
+        bail!(
+            "{shown}: the run ended {} (the scenario expects {}; outputs in {})",
+            summary.verdict,
+            scenario.expect,
+            dir.display()
+        );
+    }
+    Ok(())
 }
 
 /// The text of the scenario file at `path`, or a one-line error naming it.
@@ -120,6 +130,22 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
         .iter()
         .map(|f| Ok(frame_placement(&model, &data, f.frame)?.translation))
         .collect::<Result<Vec<_>>>()?;
+    // The verdict: the CoM height above the lowest sole (the ground when no foot is named),
+    // the contact on bodies other than the feet (not judged when no foot is named).
+    // Forces are judged in body weights; without gravity, in weights under standard gravity.
+    let g = Vector3::from(scenario.sim.gravity).norm();
+    let weight = model.total_mass() * if g > 0.0 { g } else { 9.80665 };
+    let support = |feet: &[Vector3<f64>]| feet.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+    let ground = if feet.is_empty() {
+        0.0
+    } else {
+        support(&feet_start)
+    };
+    let zeros_v = vec![0.0; model.nv];
+    let com0 = center_of_mass(&model, &mut data, q0.as_slice(), &zeros_v, &zeros_v)?;
+    let mut verdict =
+        VerdictObserver::new(scenario.verdict, weight, com0.z - ground).context("verdict")?;
+    let foot_joints: Vec<usize> = feet.iter().map(|f| f.joint).collect();
     let mut tracker = Tracker::new(feet_start);
 
     let zeros = vec![0.0; model.nv];
@@ -129,8 +155,18 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
     let mut feet_pos = vec![Vector3::zeros(); feet.len()];
     let mut progress = crate::progress::Progress::new(ticks, scenario.sim.control_dt, true);
     let start = Instant::now();
+    let mut ticks_run = 0;
     for tick in 0..ticks {
-        sim.step(&command)?;
+        if let Err(e) = sim.step(&command) {
+            match e {
+                corps_sim::SimError::Diverged { t, reason } => {
+                    verdict.diverged(t, format!("the simulation: {reason}"));
+                    break;
+                }
+                other => return Err(other.into()),
+            }
+        }
+        ticks_run = tick + 1;
         sensors.update(&sim);
         let (truth, measured) = (sensors.truth(), sensors.measured());
         let (q, v) = (sim.q().as_slice(), sim.v().as_slice());
@@ -168,7 +204,41 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
                 tau: truth.joint_torques.as_slice(),
             },
         );
-        tracker.update(truth.time, q[2], &feet_pos);
+        tracker.update(q[2], &feet_pos);
+        let total = truth
+            .contact_wrenches
+            .iter()
+            .fold(Vector3::zeros(), |s, w| s + Vector3::new(w[0], w[1], w[2]));
+        let other = if feet.is_empty() {
+            0.0
+        } else {
+            truth
+                .contact_wrenches
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| !foot_joints.contains(j))
+                .fold(Vector3::zeros(), |s, (_, w)| {
+                    s + Vector3::new(w[0], w[1], w[2])
+                })
+                .norm()
+        };
+        let stop = verdict.observe(&TickSample {
+            t: truth.time,
+            com_height: com.z
+                - if feet.is_empty() {
+                    ground
+                } else {
+                    support(&feet_pos)
+                },
+            base_speed: Vector3::new(v[0], v[1], v[2]).norm(),
+            total_contact_force: total.norm(),
+            other_contact_force: other,
+            state_finite: q.iter().chain(v).all(|x| x.is_finite()),
+            safe_command: false,
+        });
+        if stop.is_some() {
+            break;
+        }
         progress.tick(tick);
     }
     progress.finish();
@@ -184,12 +254,12 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
     Ok(Summary {
         name,
         simulated: sim.time(),
-        ticks,
+        ticks: ticks_run,
         control_dt: scenario.sim.control_dt,
         wall,
         final_base: [q[0], q[1], q[2]],
         min_base_z: tracker.min_base_z,
-        fell_at: tracker.fell_at,
+        verdict: verdict.finish(sim.time()),
         slip: labels.into_iter().zip(tracker.max_slip).collect(),
         log,
         rows,

@@ -2,6 +2,7 @@
 //! one-line errors that name the key, and the checks of values that need no robot model.
 
 use super::pushes::PushSpec;
+use corps_loop::verdict::{Criteria, Verdict};
 use corps_sim::{SensorNoise, SimSettings, TerrainPreset};
 use serde::Deserialize;
 use std::path::PathBuf;
@@ -17,6 +18,13 @@ pub struct Scenario {
     /// Seed of the sensor noise.
     #[serde(default)]
     pub seed: u64,
+    /// The verdict the run should end with (a failure demonstration says `fell`); any other
+    /// makes the command exit non-zero.
+    #[serde(default = "completed")]
+    pub expect: Verdict,
+    /// When the run counts as fallen, diverged or its controller failed.
+    #[serde(default)]
+    pub verdict: Criteria,
     #[serde(default)]
     pub robot: RobotSection,
     #[serde(default)]
@@ -46,6 +54,10 @@ pub struct Scenario {
     pub motion: crate::run::MotionSection,
     /// The documents' figures for this experiment, printed beside ours (`corps run`).
     pub thesis: Option<crate::run::ThesisFigures>,
+}
+
+fn completed() -> Verdict {
+    Verdict::Completed
 }
 
 /// `[robot]`: the URDF and SRDF, relative to the scenario file. Default: TALOS with box feet.
@@ -294,6 +306,7 @@ impl Scenario {
         for (k, p) in self.pushes.iter().enumerate() {
             p.check(k)?;
         }
+        self.verdict.check().map_err(|e| format!("verdict.{e}"))?;
         super::pushes::schedule(&self.pushes, 0.0, self.duration)?;
         check_noise(&self.noise)
     }

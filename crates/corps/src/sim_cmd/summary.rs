@@ -1,20 +1,16 @@
 //! The summary printed after a run: simulated and wall time, real-time factor, final base
-//! position, lowest base height, largest foot slip, and whether the robot fell.
+//! position, lowest base height, largest foot slip, and the verdict.
 
+use corps_loop::verdict::VerdictReport;
 use nalgebra::Vector3;
 use std::fmt;
 use std::path::PathBuf;
 use std::time::Duration;
 
-/// Base height (m) under which the robot counts as fallen.
-pub const FALL_HEIGHT: f64 = 0.6;
-
 /// Tracks the summary's quantities tick by tick.
 pub struct Tracker {
     /// Lowest base height so far (m).
     pub min_base_z: f64,
-    /// First time the base went below [`FALL_HEIGHT`].
-    pub fell_at: Option<f64>,
     feet_start: Vec<Vector3<f64>>,
     /// Largest horizontal displacement of each foot from its start (m).
     pub max_slip: Vec<f64>,
@@ -27,16 +23,12 @@ impl Tracker {
             min_base_z: f64::INFINITY,
             max_slip: vec![0.0; feet_start.len()],
             feet_start,
-            fell_at: None,
         }
     }
 
     /// Records one tick: time, base height and foot positions.
-    pub fn update(&mut self, t: f64, base_z: f64, feet: &[Vector3<f64>]) {
+    pub fn update(&mut self, base_z: f64, feet: &[Vector3<f64>]) {
         self.min_base_z = self.min_base_z.min(base_z);
-        if base_z < FALL_HEIGHT && self.fell_at.is_none() {
-            self.fell_at = Some(t);
-        }
         for ((max, start), now) in self.max_slip.iter_mut().zip(&self.feet_start).zip(feet) {
             *max = max.max((now - start).xy().norm());
         }
@@ -52,7 +44,8 @@ pub struct Summary {
     pub wall: Duration,
     pub final_base: [f64; 3],
     pub min_base_z: f64,
-    pub fell_at: Option<f64>,
+    /// How the run ended.
+    pub verdict: VerdictReport,
     /// Largest horizontal displacement of each foot from its start (label, m).
     pub slip: Vec<(String, f64)>,
     pub log: PathBuf,
@@ -100,13 +93,7 @@ impl fmt::Display for Summary {
                 .collect();
             writeln!(f, "  max foot slip    {}", slips.join(", "))?;
         }
-        match self.fell_at {
-            Some(t) => writeln!(
-                f,
-                "  fell             yes (base below {FALL_HEIGHT} m at t = {t:.3} s)"
-            )?,
-            None => writeln!(f, "  fell             no")?,
-        }
+        writeln!(f, "  verdict          {}", self.verdict)?;
         writeln!(
             f,
             "  log              {} ({} rows, {} columns)",
