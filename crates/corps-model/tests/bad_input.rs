@@ -211,3 +211,22 @@ fn limit_vectors_have_the_sizes_of_q_and_v() {
         assert_eq!(model.effort_limit.len(), model.nv, "{name}");
     }
 }
+
+#[test]
+fn an_srdf_of_another_robot_is_an_error_not_a_neutral_posture() {
+    let mut talos = load(TALOS, RootJoint::FreeFlyer);
+    let other = r#"<robot name="other">
+      <group_state name="half_sitting" group="all">
+        <joint name="l_hip_pitch" value="0.1"/><joint name="l_knee" value="-0.2"/>
+        <joint name="r_hip_pitch" value="0.1"/><joint name="r_knee" value="-0.2"/>
+      </group_state></robot>"#;
+    let e = corps_model::parse::load_reference_configurations_str(&mut talos, other)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("half_sitting") && e.contains("none of the model's joints"),
+        "{e}"
+    );
+    assert!(e.contains("l_hip_pitch, l_knee, r_hip_pitch, …"), "{e}");
+    assert!(talos.reference_configuration("half_sitting").is_err());
+}

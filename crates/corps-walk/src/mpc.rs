@@ -874,7 +874,11 @@ impl WalkingMpc {
         let om = self.cmd.yaw_rate;
         // side of the support foot of step c + k: the current support foot for even k
         let side = |k: u64| {
-            let sup = if k.is_multiple_of(2) { swing.other() } else { swing };
+            let sup = if k.is_multiple_of(2) {
+                swing.other()
+            } else {
+                swing
+            };
             sup.side()
         };
         for i in 0..n {

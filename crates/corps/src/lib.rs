@@ -3,7 +3,10 @@
 //! command runs.
 
 pub mod default_robot;
+pub mod interrupt;
 pub mod output;
 pub mod progress;
 pub mod run;
 pub mod sim_cmd;
+pub mod stdout;
+pub mod strict_toml;

@@ -34,6 +34,7 @@ enum Command {
 
 fn main() {
     let cli = Cli::parse();
+    corps::interrupt::install();
     let result = match cli.command {
         None => run::run_main_job(),
         Some(Command::Model(cmd)) => model_cmd::run(cmd),
@@ -41,6 +42,10 @@ fn main() {
         Some(Command::Run(args)) => run::run(args),
     };
     if let Err(e) = result {
+        if let Some(stop) = e.downcast_ref::<corps::interrupt::Interrupted>() {
+            eprintln!("corps: {stop}");
+            std::process::exit(corps::interrupt::EXIT_STATUS);
+        }
         eprintln!("corps: error: {e:#}");
         std::process::exit(1);
     }

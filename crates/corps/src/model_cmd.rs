@@ -53,11 +53,13 @@ pub fn run(cmd: ModelCommand) -> Result<()> {
                 robot.fixed_base,
             )?;
             if json {
-                println!("{}", serde_json::to_string_pretty(&inspect_json(&model))?);
+                corps::stdout::print(&format!(
+                    "{}\n",
+                    serde_json::to_string_pretty(&inspect_json(&model))?
+                ))
             } else {
-                print!("{}", inspect_text(&model));
+                corps::stdout::print(&inspect_text(&model))
             }
-            Ok(())
         }
         ModelCommand::Eval { robot, states } => {
             let model = load_model(
@@ -70,8 +72,7 @@ pub fn run(cmd: ModelCommand) -> Result<()> {
             let input: EvalInput = serde_json::from_str(&text)
                 .with_context(|| format!("parsing {}", states.display()))?;
             let out = evaluate(&model, &input)?;
-            println!("{}", serde_json::to_string(&out)?);
-            Ok(())
+            corps::stdout::print(&format!("{}\n", serde_json::to_string(&out)?))
         }
     }
 }

@@ -146,3 +146,97 @@ fn a_killed_run_leaves_whole_rows_up_to_its_last_flush() {
     assert!(ok, "{err}");
     assert!(out.join("log.csv").exists() && !partial.exists());
 }
+
+#[test]
+#[cfg(unix)]
+fn ctrl_c_stops_the_run_with_a_whole_log_marked_interrupted_and_status_130() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let s = stand();
+    let run = Command::new(env!("CARGO_BIN_EXE_corps"))
+        .args(["run", s.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .args(["--duration", "600"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("starts");
+    wait_for_rows(&out.join("log.csv.partial"), 1.0);
+    let sent = Command::new("kill")
+        .args(["-INT", &run.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let o = run.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(130), "{stderr}");
+    let last = stderr.lines().last().unwrap_or_default();
+    assert!(last.starts_with("corps: interrupted at t = "), "{stderr}");
+    // The log is a finished one, of whole rows, ending where the metrics say.
+    let text = std::fs::read_to_string(out.join("log.csv")).unwrap();
+    let mut lines = text.lines();
+    let columns = lines.next().unwrap().split(',').count();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.iter().all(|r| r.len() == columns));
+    let m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).unwrap()).unwrap();
+    let at = m["interrupted_at"].as_f64().expect("marked interrupted");
+    let last_t = rows.last().unwrap()[0];
+    assert!(
+        last_t > 1.0 && last_t < at && at - last_t < 0.01,
+        "{last_t} {at}"
+    );
+    assert!(!out.join("log.csv.partial").exists());
+}
+
+#[test]
+fn plots_false_removes_the_plots_of_an_earlier_run() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let s = stand();
+    let (ok, err) = corps_run(&[
+        s.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--duration",
+        "0.1",
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.join("com.png").is_file());
+    let text = std::fs::read_to_string(&s).unwrap();
+    let no_plots = tmp.path().join("no_plots.toml");
+    let text = text.replacen("[output]\n", "[output]\nplots = false\n", 1);
+    assert!(text.contains("plots = false"));
+    std::fs::write(&no_plots, text).unwrap();
+    let (ok, err) = corps_run(&[
+        no_plots.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--duration",
+        "0.1",
+    ]);
+    assert!(ok, "{err}");
+    let pngs: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().extension().is_some_and(|x| x == "png"))
+        .collect();
+    assert!(pngs.is_empty(), "stale plots: {pngs:?}");
+}
+
+#[test]
+fn a_closed_stdout_ends_the_command_quietly() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_corps"))
+        .args(["model", "inspect", "--json"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("starts");
+    // `corps model inspect --json | head -c 0`: the reader is gone before the first write.
+    drop(child.stdout.take());
+    let o = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    assert!(stderr.is_empty(), "{stderr}");
+}

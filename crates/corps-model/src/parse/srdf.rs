@@ -9,7 +9,9 @@ use crate::model::Model;
 use std::path::Path;
 
 /// Reads the `group_state`s of an SRDF file into `model.reference_configurations`.
-/// Joints the model does not have are skipped (an SRDF often covers a fuller model).
+/// Joints the model does not have are skipped (an SRDF often covers a fuller model), but a
+/// `group_state` that names joints and none of the model's is an error: the SRDF is another
+/// robot's, and its configuration would silently be the neutral one.
 pub fn load_reference_configurations(model: &mut Model, path: impl AsRef<Path>) -> Result<()> {
     let path = path.as_ref();
     let text = std::fs::read_to_string(path).map_err(|e| ModelError::Io {
@@ -26,11 +28,14 @@ pub fn load_reference_configurations_str(model: &mut Model, xml: &str) -> Result
         let name = attr(&gs, "name", "<group_state>")?.to_string();
         let ctx = format!("group_state '{name}'");
         let mut q = neutral(model);
+        let (mut named, mut matched) = (Vec::new(), 0);
         for j in children(&gs, "joint") {
             let jname = attr(&j, "name", &ctx)?;
+            named.push(jname);
             let Ok(id) = model.joint_id(jname) else {
                 continue;
             };
+            matched += 1;
             let values = numbers(attr(&j, "value", &ctx)?, &ctx, jname)?;
             let joint = &model.joints[id];
             let s = joint.idx_q;
@@ -53,6 +58,17 @@ pub fn load_reference_configurations_str(model: &mut Model, xml: &str) -> Result
                     })
                 }
             }
+        }
+        if matched == 0 && !named.is_empty() {
+            let shown: Vec<&str> = named.iter().take(3).copied().collect();
+            return Err(ModelError::Invalid {
+                element: ctx,
+                reason: format!(
+                    "names none of the model's joints ({}{}): is the SRDF this robot's?",
+                    shown.join(", "),
+                    if named.len() > 3 { ", …" } else { "" }
+                ),
+            });
         }
         crate::configuration::normalize(model, q.as_mut_slice());
         model.reference_configurations.retain(|(n, _)| *n != name);

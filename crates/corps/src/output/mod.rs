@@ -11,6 +11,38 @@ use anyhow::{Context, Result};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// Every figure `corps run` and `corps sim` may write; a run removes those it did not write
+/// this time, so no plot of an earlier run stays beside this run's log.
+pub const PLOT_FILES: &[&str] = &[
+    "com.png",
+    "zmp.png",
+    "feet.png",
+    "tick_time.png",
+    "ankle.png",
+    "base_height.png",
+    "cop.png",
+    "contact_forces.png",
+    "joint_torques.png",
+];
+
+/// Removes from `dir` the figures of [`PLOT_FILES`] that are not among `written`.
+pub fn remove_stale_plots(dir: &Path, written: &[PathBuf]) -> Result<()> {
+    for name in PLOT_FILES {
+        let path = dir.join(name);
+        if written.contains(&path) {
+            continue;
+        }
+        match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(e)
+                    .with_context(|| format!("removing the stale plot {}", path.display()))
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 /// Default size cap of a log (`[output] max_log_mb`).
 pub const DEFAULT_MAX_LOG_MB: f64 = 1024.0;
 

@@ -194,10 +194,12 @@ pub fn load<T: serde::de::DeserializeOwned>(
         name = format!("{name} with controller.set");
     }
     let de = toml::Deserializer::parse(&text).map_err(|e| anyhow!("{name}: {}", e.message()))?;
-    serde_path_to_error::deserialize(de).map_err(|e| {
+    let gains = serde_path_to_error::deserialize(de).map_err(|e| {
         let path = e.path().to_string();
         anyhow!("{name}: {path}: {}", e.inner().message().trim())
-    })
+    })?;
+    crate::strict_toml::check_lengths::<T>(&text).map_err(|e| anyhow!("{name}: {e}"))?;
+    Ok(gains)
 }
 
 /// Replaces `base`'s values by `over`'s, descending into tables present in both.

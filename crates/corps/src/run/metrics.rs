@@ -244,6 +244,8 @@ pub struct Metrics {
     pub thesis: Option<ThesisFigures>,
     /// How the run ended.
     pub verdict: VerdictReport,
+    /// Controlled time reached when Ctrl-C stopped the run (s); the log ends there.
+    pub interrupted_at: Option<f64>,
 }
 
 fn row(
@@ -381,7 +383,11 @@ impl fmt::Display for Metrics {
                 self.fallbacks
             )?,
         }
-        writeln!(f, "  verdict: {}", self.verdict)
+        writeln!(f, "  verdict: {}", self.verdict)?;
+        if let Some(t) = self.interrupted_at {
+            writeln!(f, "  interrupted at t = {t:.3} s: the log ends there")?;
+        }
+        Ok(())
     }
 }
 

@@ -54,8 +54,8 @@ use motion::MotionPlan;
 use nalgebra::Vector3;
 use plot_buffer::PlotBuffer;
 use serde::Deserialize;
-use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use stepper::Stepper;
 
@@ -80,16 +80,19 @@ pub struct ControllerSection {
     pub set: toml::Table,
 }
 
+/// Longest settling time under the joint PD hold before the controller takes over (s).
+pub const MAX_SETTLE: f64 = 600.0;
+
 fn half_second() -> f64 {
     0.5
 }
 
 impl ControllerSection {
     pub fn check(&self) -> Result<(), String> {
-        if !(self.settle >= 0.0 && self.settle.is_finite()) {
+        if !(self.settle >= 0.0 && self.settle <= MAX_SETTLE) {
             return Err(format!(
-                "controller.settle: must be a finite number ≥ 0, got {}",
-                self.settle
+                "controller.settle: must be a time in [0, {MAX_SETTLE}] s, got {}",
+                crate::sim_cmd::scenario::number(self.settle)
             ));
         }
         Ok(())
@@ -129,7 +132,7 @@ enum OverlapArg {
 }
 
 /// How a run executes (never what it computes).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug)]
 pub struct RunOptions {
     /// Progress on stderr: a bar on a terminal, a line every few seconds otherwise.
     pub progress: bool,
@@ -138,6 +141,9 @@ pub struct RunOptions {
     pub overlap: Overlap,
     /// Size cap of the log in MB, replacing the scenario's `[output] max_log_mb`.
     pub max_log_mb: Option<f64>,
+    /// Raised to stop the run at the next tick: it then writes what it has, marked
+    /// interrupted (the command's Ctrl-C, [`crate::interrupt`]).
+    pub interrupt: Option<&'static AtomicBool>,
 }
 
 impl RunOptions {
@@ -147,11 +153,12 @@ impl RunOptions {
             progress: false,
             overlap: Overlap::Never,
             max_log_mb: None,
+            interrupt: None,
         }
     }
 
-    /// What `corps run` does: progress, and the adaptive overlap when the machine has two
-    /// cores or more.
+    /// What `corps run` does: progress, the adaptive overlap when the machine has two cores
+    /// or more, and a clean stop on Ctrl-C.
     pub fn interactive() -> Self {
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
         Self {
@@ -162,6 +169,7 @@ impl RunOptions {
                 Overlap::Never
             },
             max_log_mb: None,
+            interrupt: Some(&crate::interrupt::FLAG),
         }
     }
 }
@@ -183,22 +191,16 @@ pub fn run(args: RunArgs) -> Result<()> {
         options,
     )?;
     print_report(&report)?;
+    report.check_interrupted()?;
     report.check_expected()
 }
 
 fn print_report(report: &RunReport) -> Result<()> {
-    let mut out = std::io::stdout().lock();
-    let written = write!(out, "{}", report.metrics).and_then(|_| {
-        writeln!(out, "  wrote {}", report.dir.display())?;
-        for p in &report.files {
-            writeln!(out, "    {}", p.display())?;
-        }
-        Ok(())
-    });
-    match written {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e).context("printing"),
-        _ => Ok(()),
+    let mut text = format!("{}  wrote {}\n", report.metrics, report.dir.display());
+    for p in &report.files {
+        text.push_str(&format!("    {}\n", p.display()));
     }
+    crate::stdout::print(&text)
 }
 
 /// What a run produced.
@@ -211,6 +213,18 @@ pub struct RunReport {
 }
 
 impl RunReport {
+    /// [`Interrupted`](crate::interrupt::Interrupted) when Ctrl-C stopped the run.
+    pub fn check_interrupted(&self) -> Result<()> {
+        match self.metrics.interrupted_at {
+            Some(t) => Err(crate::interrupt::Interrupted {
+                t,
+                dir: self.dir.display().to_string(),
+            }
+            .into()),
+            None => Ok(()),
+        }
+    }
+
     /// An error when the run ended otherwise than its scenario expects.
     pub fn check_expected(&self) -> Result<()> {
         let v = &self.metrics.verdict;
@@ -251,6 +265,7 @@ pub fn run_main_job() -> Result<()> {
         RunOptions::interactive(),
     )?;
     print_report(&report)?;
+    report.check_interrupted()?;
     report.check_expected()
 }
 
@@ -493,6 +508,10 @@ pub fn run_scenario(
         let mut stepper = Stepper::new(scope, &shared, options.overlap);
         for tick in 0..ticks {
             let t = tick as f64 * dt;
+            if crate::interrupt::raised(options.interrupt) {
+                m.interrupted_at = Some(ticks_run as f64 * dt);
+                break;
+            }
             plan.sample(t, &mut targets);
             // What the sensors tell: CoM (base estimator), soles, contact wrenches (F/T).
             let (com, com_velocity, placements, contact) = {
@@ -622,6 +641,7 @@ pub fn run_scenario(
     if scenario.output.plots {
         files.extend(plots::write(dir, &plot_buffer, &header, &m.scenario)?);
     }
+    output::remove_stale_plots(dir, &files)?;
     Ok(RunReport {
         metrics: m,
         expected: scenario.expect,

@@ -30,12 +30,12 @@ impl Side {
 }
 
 /// `[motion]` of a scenario.
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum MotionSection {
-    /// Hold the starting CoM and feet.
-    #[default]
-    Stand,
+    /// Hold the starting CoM and feet. (A struct variant with no field, so that an unknown
+    /// key beside `kind = "stand"` is an error as in every other variant.)
+    Stand {},
     /// CoM sinusoid about its start, `amplitude` (m, per axis) at `frequency` (Hz); the
     /// amplitude ramps in over `ramp` s (min-jerk) so the reference starts at rest.
     ComSinusoid {
@@ -70,6 +70,12 @@ pub enum MotionSection {
     ComFile { path: std::path::PathBuf },
 }
 
+impl Default for MotionSection {
+    fn default() -> Self {
+        MotionSection::Stand {}
+    }
+}
+
 /// `Ok` when `x` is positive and finite, else an error naming `motion.<name>`.
 pub(crate) fn positive(name: &str, x: f64) -> Result<(), String> {
     if x > 0.0 && x.is_finite() {
@@ -96,7 +102,7 @@ impl MotionSection {
     /// Checks the values; the error names the key.
     pub fn check(&self) -> Result<(), String> {
         match self {
-            MotionSection::Stand => Ok(()),
+            MotionSection::Stand {} => Ok(()),
             MotionSection::Walk(w) => w.check(),
             MotionSection::Velocity(v) => v.check(),
             MotionSection::ComFile { .. } => Ok(()),
@@ -287,7 +293,7 @@ impl MotionPlan {
     pub fn sample(&self, t: f64, out: &mut Targets) {
         let c0 = DVector::from_column_slice(self.com0.as_slice());
         match &self.section {
-            MotionSection::Stand => {}
+            MotionSection::Stand {} => {}
             MotionSection::Walk(_) | MotionSection::Velocity(_) => {
                 if let Some(w) = &self.walk {
                     w.sample(t, out);

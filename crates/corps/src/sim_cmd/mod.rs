@@ -20,8 +20,8 @@ use corps_model::{center_of_mass, forward_kinematics_placements, frame_placement
 use nalgebra::Vector3;
 use scenario::Scenario;
 use setup::Setup;
-use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use summary::{Summary, Tracker};
 
@@ -69,13 +69,15 @@ pub fn run(args: SimArgs) -> Result<()> {
         .unwrap_or_else(|| PathBuf::from("out").join(&name));
     std::fs::create_dir_all(&dir)
         .with_context(|| format!("creating the output directory {}", dir.display()))?;
-    let summary = simulate(&scenario, setup, &dir, name).map_err(|e| anyhow!("{shown}: {e:#}"))?;
-    // A closed pipe (`corps sim ... | head`) is not an error of the run.
-    match write!(std::io::stdout().lock(), "{summary}") {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
-            return Err(e).context("printing the summary")
+    let summary = simulate(&scenario, setup, &dir, name, Some(&crate::interrupt::FLAG))
+        .map_err(|e| anyhow!("{shown}: {e:#}"))?;
+    crate::stdout::print(&summary.to_string())?;
+    if let Some(t) = summary.interrupted_at {
+        return Err(crate::interrupt::Interrupted {
+            t,
+            dir: dir.display().to_string(),
         }
-        _ => {}
+        .into());
     }
     if summary.verdict.verdict != scenario.expect {
         bail!(
@@ -100,8 +102,15 @@ pub fn read_scenario(path: &Path) -> Result<String> {
     }
 }
 
-/// Runs the simulation loop, logging each tick; writes the log and plots once it finished.
-fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Result<Summary> {
+/// Runs the simulation loop, logging each tick; writes the log and plots once it finished,
+/// or once `interrupt` was raised.
+fn simulate(
+    scenario: &Scenario,
+    setup: Setup,
+    dir: &Path,
+    name: String,
+    interrupt: Option<&AtomicBool>,
+) -> Result<Summary> {
     let Setup {
         model,
         mut sim,
@@ -156,7 +165,12 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
     let mut progress = crate::progress::Progress::new(ticks, scenario.sim.control_dt, true);
     let start = Instant::now();
     let mut ticks_run = 0;
+    let mut interrupted_at = None;
     for tick in 0..ticks {
+        if crate::interrupt::raised(interrupt) {
+            interrupted_at = Some(sim.time());
+            break;
+        }
         if let Err(e) = sim.step(&command) {
             match e {
                 corps_sim::SimError::Diverged { t, reason } => {
@@ -250,6 +264,7 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
     } else {
         vec![]
     };
+    crate::output::remove_stale_plots(dir, &plots)?;
     let q = sim.q();
     Ok(Summary {
         name,
@@ -260,6 +275,7 @@ fn simulate(scenario: &Scenario, setup: Setup, dir: &Path, name: String) -> Resu
         final_base: [q[0], q[1], q[2]],
         min_base_z: tracker.min_base_z,
         verdict: verdict.finish(sim.time()),
+        interrupted_at,
         slip: labels.into_iter().zip(tracker.max_slip).collect(),
         log,
         rows,

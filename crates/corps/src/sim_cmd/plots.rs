@@ -279,8 +279,9 @@ pub(crate) fn draw_figure(
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    // The encoder picks the format from the extension: keep `.png` on the temporary name.
-    let tmp = path.with_file_name(format!(".{name}.partial.png"));
+    // The encoder picks the format from the extension: keep `.png` on the temporary name,
+    // which is the process's own.
+    let tmp = path.with_file_name(format!(".{name}.{}.partial.png", std::process::id()));
     {
         let root = BitMapBackend::new(&tmp, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(plot_error)?;

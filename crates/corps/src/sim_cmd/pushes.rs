@@ -5,6 +5,9 @@
 use corps_sim::Push;
 use serde::Deserialize;
 
+/// Largest component of a push's force (N) or torque (N·m).
+pub const MAX_PUSH: f64 = 1e9;
+
 /// Pushes one scenario may expand to at most.
 pub const MAX_PUSHES: usize = 100_000;
 
@@ -47,6 +50,11 @@ impl PushSpec {
         for (key, v) in [("force", self.force), ("torque", self.torque)] {
             if v.iter().any(|x| !x.is_finite()) {
                 return Err(format!("push[{k}].{key}: must be finite"));
+            }
+            if v.iter().any(|x| x.abs() > MAX_PUSH) {
+                return Err(format!(
+                    "push[{k}].{key}: a component is over the limit of {MAX_PUSH:.0e} in magnitude"
+                ));
             }
         }
         if let Some(every) = self.every {

@@ -221,6 +221,7 @@ impl Scenario {
         let de = toml::Deserializer::parse(text).map_err(|e| one_line(&e, ""))?;
         let scenario: Scenario = serde_path_to_error::deserialize(de)
             .map_err(|e| one_line(e.inner(), &e.path().to_string()))?;
+        crate::strict_toml::check_lengths::<Scenario>(text)?;
         scenario.check()?;
         Ok(scenario)
     }
@@ -251,6 +252,25 @@ impl Scenario {
             }
         };
         positive("duration", self.duration, "seconds")?;
+        if self.duration > MAX_DURATION {
+            return Err(format!(
+                "duration: {} s is over the limit of {MAX_DURATION:e} s (11.6 simulated days)",
+                number(self.duration)
+            ));
+        }
+        if self.sim.control_dt < MIN_CONTROL_DT {
+            return Err(format!(
+                "sim.control_dt: {} s is under the limit of {MIN_CONTROL_DT:e} s",
+                number(self.sim.control_dt)
+            ));
+        }
+        let ticks = self.duration / self.sim.control_dt;
+        if ticks > MAX_TICKS {
+            return Err(format!(
+                "duration: {} s at sim.control_dt = {} s is {ticks:.3e} control ticks, over the limit of {MAX_TICKS:.0e}",
+                self.duration, self.sim.control_dt
+            ));
+        }
         if self.output.log_every == 0 {
             return Err("output.log_every: must be at least 1".into());
         }
@@ -321,8 +341,38 @@ impl Scenario {
     }
 }
 
-/// Every noise channel needs a finite standard deviation ≥ 0 and a finite bias.
+/// `x` for a message: plain when moderate, in scientific notation when huge or tiny.
+pub fn number(x: f64) -> String {
+    if x == 0.0 || (1e-4..1e7).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// Longest simulated time of a run (s).
+pub const MAX_DURATION: f64 = 1e6;
+/// Shortest control period (s).
+pub const MIN_CONTROL_DT: f64 = 1e-6;
+/// Most control ticks in a run.
+pub const MAX_TICKS: f64 = 1e9;
+/// Largest noise standard deviation or bias of a channel, in its unit (larger values
+/// overflow the readings to infinity and the log to NaN).
+pub const MAX_NOISE: f64 = 1e6;
+
+/// Every noise channel needs a finite standard deviation ≥ 0 and a finite bias, both at most
+/// [`MAX_NOISE`] in magnitude.
 fn check_noise(noise: &SensorNoise) -> Result<(), String> {
+    for (channel, n) in noise.channels() {
+        for (key, x) in [("std", n.std), ("bias", n.bias)] {
+            if x.abs() > MAX_NOISE {
+                return Err(format!(
+                    "noise.{channel}.{key}: {} is over the limit of {MAX_NOISE:.0e} in magnitude",
+                    number(x)
+                ));
+            }
+        }
+    }
     let value = serde_json::to_value(noise).map_err(|e| format!("noise: {e}"))?;
     let Some(channels) = value.as_object() else {
         return Ok(());

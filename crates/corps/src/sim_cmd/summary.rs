@@ -46,6 +46,8 @@ pub struct Summary {
     pub min_base_z: f64,
     /// How the run ended.
     pub verdict: VerdictReport,
+    /// Simulated time reached when Ctrl-C stopped the run (s); the log ends there.
+    pub interrupted_at: Option<f64>,
     /// Largest horizontal displacement of each foot from its start (label, m).
     pub slip: Vec<(String, f64)>,
     pub log: PathBuf,
@@ -94,6 +96,9 @@ impl fmt::Display for Summary {
             writeln!(f, "  max foot slip    {}", slips.join(", "))?;
         }
         writeln!(f, "  verdict          {}", self.verdict)?;
+        if let Some(t) = self.interrupted_at {
+            writeln!(f, "  interrupted      at t = {t:.3} s: the log ends there")?;
+        }
         writeln!(
             f,
             "  log              {} ({} rows, {} columns)",
