@@ -4,8 +4,9 @@
 //! torque walk about a fifth faster; beside other runs it only adds hand-overs. A run cannot
 //! see the machine's load, but it can see its own speed: [`Overlap::Adaptive`] times its
 //! ticks in short alternating windows of each mode (a probe, serial first; an overlapped
-//! window is cut short as soon as it is a quarter slower than the serial window before it), keeps the
-//! faster mode for a while, and probes again, less often while the same mode keeps winning. An overlapped
+//! window is cut short as soon as it is a quarter slower than the serial window before it),
+//! keeps the mode of the fastest window for a while, and probes again, less often while the
+//! same mode keeps winning. An overlapped
 //! stretch ends early when the run's thread keeps finding the preparation unfinished (the
 //! worker lost its core to another process). Both modes step the simulator bit-identically,
 //! so the schedule changes the run's speed, never its result.
@@ -31,8 +32,9 @@ const SERIAL: usize = 1;
 const WINDOW: u32 = 100;
 /// Windows of each mode in one probe (alternating).
 const WINDOWS_PER_MODE: usize = 3;
-/// Ticks the winner runs after a probe, doubled while the same mode wins, up to the maximum.
-const FIRST_STRETCH: u32 = 8_000;
+/// Ticks the winner runs after a probe, doubled while the same mode wins, up to the maximum
+/// (short at first: a probe misled by a noisy moment costs at most this stretch).
+const FIRST_STRETCH: u32 = 3_000;
 const MAX_STRETCH: u32 = 48_000;
 /// An overlapped stretch ends when more than this many ticks of one window had to wait
 /// parked for the preparation.
@@ -167,14 +169,12 @@ impl OverlapSchedule {
         };
     }
 
-    /// The probe's winner: the mode with the shorter median window.
+    /// The probe's winner: the mode with the shorter fastest window. Noise on a shared or
+    /// virtual machine only adds time, so each mode's fastest window is its best estimate;
+    /// a machine whose other core is busy slows every overlapped window, the fastest too.
     fn decide(&mut self) -> Phase {
-        let median = |w: &[Duration; WINDOWS_PER_MODE]| {
-            let mut w = *w;
-            w.sort();
-            w[WINDOWS_PER_MODE / 2]
-        };
-        let overlap = median(&self.windows[OVERLAPPED]) < median(&self.windows[SERIAL]);
+        let fastest = |w: &[Duration; WINDOWS_PER_MODE]| w.iter().copied().min();
+        let overlap = fastest(&self.windows[OVERLAPPED]) < fastest(&self.windows[SERIAL]);
         self.settle(overlap)
     }
 

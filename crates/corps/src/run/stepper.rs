@@ -20,9 +20,12 @@ use std::time::{Duration, Instant};
 /// How long the run's thread spins for a preparation before it parks (a preparation takes
 /// tens of microseconds and usually ends while the controller computes).
 const RUN_SPIN: Duration = Duration::from_micros(20);
-/// How long the worker spins for the next request before it parks (the next request comes
-/// one step and one state read after the last preparation, some 20 µs later on TALOS).
-const WORKER_SPIN: Duration = Duration::from_micros(50);
+/// How long the worker spins for the next request before it parks. The next request comes
+/// one controller tick after the last (some 60–100 µs on TALOS, the preparation itself
+/// 25–35 µs of it); parking between overlapped ticks would add a wake-up, tens of µs on a
+/// virtual machine, to every preparation. A run that stops overlapping (a serial stretch of
+/// [`Overlap::Adaptive`]) lets the worker park after this long.
+const WORKER_SPIN: Duration = Duration::from_micros(250);
 /// Longest single park of the run's thread before it checks the worker is alive.
 const PARK_CHECK: Duration = Duration::from_millis(5);
 
