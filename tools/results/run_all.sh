@@ -24,7 +24,28 @@ out=$(mktemp -d)
       echo "(the run stopped with an error)"
     fi
     echo '```'
+    if grep -q '^\[thesis\]' "$f"; then
+      echo
+      echo "The same run with the simulator's exact state instead of the estimator (\`--estimator ground-truth\`):"
+      echo
+      echo '```text'
+      ./target/release/corps run "$f" -o "$out/$name.truth" --estimator ground-truth 2>&1 \
+        | grep -E "^  (error|CoM|ZMP|left foot  |right foot  |cost|short|state)" || echo "(the run stopped with an error)"
+      echo '```'
+    fi
   done
+  echo
+  echo "## Where corps falls short of the documents"
+  echo
+  echo 'Every figure above where corps, with its estimator, is worse than the document'"'"'s (the'
+  echo '`short of the thesis` lines), then the measured causes (`tools/results/shortfall_causes.md`).'
+  echo
+  for f in scenarios/walk/*.toml scenarios/control/*.toml; do
+    name=$(basename "$f" .toml)
+    grep "short of the thesis" "$out/$name/metrics.txt" 2>/dev/null | sed "s/^  short of the thesis: /- $name: /" || true
+  done
+  echo
+  cat tools/results/shortfall_causes.md
 } > RESULTS.md.partial
 mv RESULTS.md.partial RESULTS.md
 rm -rf "$out"

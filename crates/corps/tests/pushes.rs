@@ -86,3 +86,44 @@ fn a_simulation_applies_its_push_once() {
     let p = MASS * rows.last().unwrap()[col(&h, "com_vx_m_s")];
     assert!((p - 10.0).abs() < 1e-5, "momentum after the push {p} N·s");
 }
+
+/// The controller sees the encoders through the estimator: noise on them reaches the
+/// commanded torques (and so the work the joints do), with the same seed the same way.
+#[test]
+fn encoder_noise_reaches_the_commanded_torques() {
+    let stand = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../scenarios/control/tsid_torque_stand.toml"),
+    )
+    .unwrap()
+    .replacen("[output]\n", "[output]\nplots = false\n", 1);
+    let work = |noise: &str| {
+        let text = format!("{stand}\n{noise}");
+        let out = tempfile::tempdir().unwrap();
+        let m = run_text(
+            &text,
+            Path::new("stand.toml"),
+            Some(out.path()),
+            Some(0.3),
+            RunOptions::quiet(),
+        )
+        .unwrap()
+        .metrics;
+        assert_eq!(m.fallbacks, 0, "{:?}", m.first_fallback);
+        m.work
+    };
+    let clean = work("");
+    let noisy = work("[noise.encoders]\nstd = 1e-3\n");
+    assert_ne!(clean, noisy, "encoder noise changed nothing");
+    assert_eq!(
+        noisy,
+        work("[noise.encoders]\nstd = 1e-3\n"),
+        "reproducible with the seed"
+    );
+    // Ground truth ignores the sensors' noise.
+    let truth = "[estimator]\nkind = \"ground_truth\"\n";
+    assert_eq!(
+        work(truth),
+        work(&format!("{truth}[noise.encoders]\nstd = 1e-3\n"))
+    );
+}

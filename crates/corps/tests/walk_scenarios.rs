@@ -42,17 +42,43 @@ fn assert_travelled(m: &Metrics, at_least: f64, planned: f64) {
     assert!(d > at_least, "travelled {d:.3} m of {planned}");
 }
 
-/// Our ZMP error peaks are at most the thesis's (seed 000 Table 4.4 / 4.7).
-fn assert_zmp_at_most_thesis(m: &Metrics) {
-    let t = m.thesis.as_ref().expect("thesis figures in the scenario");
-    for (k, figures) in [t.zmp_x, t.zmp_y].into_iter().enumerate() {
-        let [_, _, peak] = figures.expect("ZMP figures");
+/// Every figure of the thesis's tables that the scenario carries (seed 000 Tables 4.4–4.9:
+/// CoM, ZMP and feet error averages and peaks, costs of transport) is compared with corps'
+/// run, the controller seeing the sensors through the estimator. The figures where corps is
+/// worse must be exactly `known`: RESULTS.md lists them with their measured causes. A new
+/// shortfall fails, and so does a listed one that corps no longer has (strike it from the list
+/// and from RESULTS.md). Both numbers are printed for every figure.
+fn assert_shortfalls(m: &Metrics, known: &[&str]) {
+    let rows = m.thesis_comparison();
+    assert!(!rows.is_empty(), "no thesis figures in the scenario");
+    for c in &rows {
+        println!(
+            "{:<28} corps {:>9.4}  thesis {:>9.4}{}",
+            c.figure,
+            c.corps,
+            c.thesis,
+            if c.worse { "  (worse)" } else { "" }
+        );
+    }
+    let worse: Vec<&str> = rows
+        .iter()
+        .filter(|c| c.worse)
+        .map(|c| c.figure.as_str())
+        .collect();
+    if let Some(c) = rows
+        .iter()
+        .find(|c| c.worse && !known.contains(&c.figure.as_str()))
+    {
+        panic!(
+            "{}: corps {:.4} is worse than the thesis's {:.4}, and not a known shortfall",
+            c.figure, c.corps, c.thesis
+        );
+    }
+    for k in known {
+        let c = rows.iter().find(|c| c.figure == *k);
         assert!(
-            m.zmp_error[k].peak <= peak,
-            "ZMP {} error peak {:.1} mm > thesis {:.1} mm",
-            ["x", "y"][k],
-            m.zmp_error[k].peak * 1e3,
-            peak * 1e3
+            worse.contains(k),
+            "{k} is no longer short of the thesis ({c:?}): strike it from the known shortfalls"
         );
     }
 }
@@ -60,7 +86,7 @@ fn assert_zmp_at_most_thesis(m: &Metrics) {
 #[test]
 fn tsid_torque_walks_six_20_cm_steps() {
     let m = walk("tsid_torque_20cm");
-    assert_zmp_at_most_thesis(&m);
+    assert_shortfalls(&m, &[]);
     // CoM and feet tracking error below 1 cm (seed 000 L4691).
     for s in m
         .com_error
@@ -80,7 +106,7 @@ fn tsid_torque_walks_with_the_fast_timing() {
 fn tsid_torque_climbs_six_stairs() {
     let m = walk("tsid_torque_stairs");
     assert_travelled(&m, 1.7, 1.8);
-    assert_zmp_at_most_thesis(&m);
+    assert_shortfalls(&m, &["ZMP x average", "ZMP x peak"]);
 }
 
 #[test]
@@ -90,7 +116,7 @@ fn ik_position_climbs_six_stairs() {
     // support alone the IK's QP turned infeasible at 3.7 s and TALOS fell).
     let m = walk("ik_position_stairs");
     assert_travelled(&m, 1.7, 1.8);
-    assert_zmp_at_most_thesis(&m);
+    assert_shortfalls(&m, &["ZMP y average"]);
     assert_dynamic_filter_helped(&m);
 }
 
@@ -100,13 +126,14 @@ fn tsid_torque_walks_over_the_tilted_platforms() {
     // two platforms rolled ±10°, two of them with both feet on opposite platforms.
     let m = walk("tsid_torque_platforms");
     assert_travelled(&m, 1.45, 1.5);
+    assert_shortfalls(&m, &["ZMP y peak"]);
 }
 
 #[test]
 fn ik_position_walks_over_the_tilted_platforms() {
     let m = walk("ik_position_platforms");
     assert_travelled(&m, 1.45, 1.5);
-    assert_zmp_at_most_thesis(&m);
+    assert_shortfalls(&m, &["ZMP y peak"]);
     assert_dynamic_filter_helped(&m);
 }
 
@@ -114,12 +141,15 @@ fn ik_position_walks_over_the_tilted_platforms() {
 // Walks since the integrated model's contacts dropped their friction pyramids
 // (`contacts.bilateral`, crates/corps/src/run/controller/tsid.rs "Position mode's contacts").
 fn tsid_position_walks_over_the_tilted_platforms() {
-    assert_dynamic_filter_helped(&walk("tsid_position_platforms"));
+    let m = walk("tsid_position_platforms");
+    assert_dynamic_filter_helped(&m);
+    assert_shortfalls(&m, &["ZMP x average", "ZMP x peak", "ZMP y peak"]);
 }
 
 #[test]
 fn tsid_torque_walks_six_60_cm_steps() {
     let m = walk("tsid_torque_60cm");
+    assert_shortfalls(&m, &[]);
     // CoM and feet tracking error peaks at most the thesis's (seed 000 Table 4.5).
     let t = m.thesis.as_ref().unwrap();
     let pairs = [
@@ -168,7 +198,7 @@ fn assert_dynamic_filter_helped(m: &Metrics) {
 #[test]
 fn ik_position_walks_six_20_cm_steps() {
     let m = walk("ik_position_20cm");
-    assert_zmp_at_most_thesis(&m);
+    assert_shortfalls(&m, &[]);
     assert_dynamic_filter_helped(&m);
 }
 
@@ -183,7 +213,9 @@ fn ik_position_walks_with_the_fast_timing() {
 // before, the stabilizer's CoM acceleration pushed the model's ZMP off its sole and the QP
 // rolled the pelvis instead (simulation diverged at 6.1 s; 7.6 s with the dynamic filter).
 fn tsid_position_walks_six_20_cm_steps() {
-    assert_dynamic_filter_helped(&walk("tsid_position_20cm"));
+    let m = walk("tsid_position_20cm");
+    assert_dynamic_filter_helped(&m);
+    assert_shortfalls(&m, &[]);
 }
 
 #[test]

@@ -181,6 +181,66 @@ impl ThesisFigures {
     }
 }
 
+/// One of the documents' figures beside corps' (m for errors; a ratio for costs).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Comparison {
+    /// "ZMP x peak", "cost of transport C_et", …
+    pub figure: String,
+    pub corps: f64,
+    pub thesis: f64,
+    /// Whether corps is worse (a larger error or cost).
+    pub worse: bool,
+}
+
+impl Metrics {
+    /// Every figure the scenario's `[thesis]` gives, beside corps' own: the average and peak
+    /// of each error row (the standard deviation describes a spread, not a bound), and the
+    /// costs of transport. Lower is better for all of them.
+    pub fn thesis_comparison(&self) -> Vec<Comparison> {
+        let Some(t) = &self.thesis else {
+            return vec![];
+        };
+        let mut rows = vec![];
+        let mut add = |figure: String, corps: f64, thesis: f64| {
+            rows.push(Comparison {
+                figure,
+                corps,
+                thesis,
+                worse: corps > thesis,
+            })
+        };
+        let mut errors: Vec<(&str, &str, &Stat)> = vec![
+            ("CoM", "x", &self.com_error[0]),
+            ("CoM", "y", &self.com_error[1]),
+            ("ZMP", "x", &self.zmp_error[0]),
+            ("ZMP", "y", &self.zmp_error[1]),
+        ];
+        for (foot, label) in self.feet.iter().zip(["left foot", "right foot"]) {
+            errors.push((label, "x", &foot.error[0]));
+            errors.push((label, "y", &foot.error[1]));
+        }
+        for (name, axis, stat) in errors {
+            if let Some([avg, _, peak]) = t.get(name, axis) {
+                add(format!("{name} {axis} average"), stat.avg, avg);
+                add(format!("{name} {axis} peak"), stat.peak, peak);
+            }
+        }
+        if let Some(w) = &self.walk {
+            if let Some(c) = t.cost_of_transport {
+                add("cost of transport C_et".into(), w.cost_of_transport, c);
+            }
+            if let Some(c) = t.mechanical_cost_of_transport {
+                add(
+                    "cost of transport C_mt".into(),
+                    w.mechanical_cost_of_transport,
+                    c,
+                );
+            }
+        }
+        rows
+    }
+}
+
 /// The figures of a walk.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct WalkMetrics {
@@ -207,6 +267,29 @@ pub struct DynamicFilterMetrics {
     pub after: [(f64, f64); 2],
     /// Largest CoM correction |Δc| per axis (m).
     pub max_correction: [f64; 2],
+}
+
+/// Distance between the estimated and the true CoM and base position (m): mean and peak.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct EstimateError {
+    pub com_mean: f64,
+    pub com_peak: f64,
+    pub base_mean: f64,
+    pub base_peak: f64,
+    #[serde(skip)]
+    samples: usize,
+}
+
+impl EstimateError {
+    /// Adds one tick's CoM and base position errors.
+    pub fn push(&mut self, com: f64, base: f64) {
+        self.samples += 1;
+        let n = self.samples as f64;
+        self.com_mean += (com - self.com_mean) / n;
+        self.base_mean += (base - self.base_mean) / n;
+        self.com_peak = self.com_peak.max(com);
+        self.base_peak = self.base_peak.max(base);
+    }
 }
 
 /// Everything measured during a run.
@@ -244,6 +327,14 @@ pub struct Metrics {
     pub thesis: Option<ThesisFigures>,
     /// How the run ended.
     pub verdict: VerdictReport,
+    /// The documents' figures beside corps' (filled at the end of the run).
+    pub against_thesis: Vec<Comparison>,
+    /// What fed the controller, and the readings it could not use (the estimate was held).
+    pub estimator: super::EstimatorKind,
+    /// How far the controller's estimate was from the simulator's state.
+    pub estimate_error: EstimateError,
+    pub estimator_errors: usize,
+    pub first_estimator_error: Option<String>,
     /// Controlled time reached when Ctrl-C stopped the run (s); the log ends there.
     pub interrupted_at: Option<f64>,
 }
@@ -382,6 +473,40 @@ impl fmt::Display for Metrics {
                 "  safe command used on {} ticks; first: {r}",
                 self.fallbacks
             )?,
+        }
+        let source = match self.estimator {
+            super::EstimatorKind::LegOdometry => "leg odometry + IMU + ankle F/T (the sensors)",
+            super::EstimatorKind::GroundTruth => "ground truth (the simulator's exact state)",
+        };
+        for c in self.thesis_comparison().iter().filter(|c| c.worse) {
+            let (scale, unit) = if c.figure.starts_with("cost") {
+                (1.0, "")
+            } else {
+                (1e3, " mm")
+            };
+            writeln!(
+                f,
+                "  short of the thesis: {} {:.2}{unit} (thesis {:.2}{unit})",
+                c.figure,
+                c.corps * scale,
+                c.thesis * scale
+            )?;
+        }
+        let e = &self.estimate_error;
+        writeln!(
+            f,
+            "  state estimate: {source}; error CoM {:.1} mm mean, {:.1} peak; base {:.1} mean, {:.1} peak",
+            e.com_mean * 1e3,
+            e.com_peak * 1e3,
+            e.base_mean * 1e3,
+            e.base_peak * 1e3
+        )?;
+        if let Some(e) = &self.first_estimator_error {
+            writeln!(
+                f,
+                "  estimator held its estimate on {} ticks; first: {e}",
+                self.estimator_errors
+            )?;
         }
         writeln!(f, "  verdict: {}", self.verdict)?;
         if let Some(t) = self.interrupted_at {

@@ -20,6 +20,7 @@
 
 pub mod controller;
 pub mod dynamic_filter;
+mod estimation;
 pub mod gains;
 mod gait;
 mod metrics;
@@ -31,9 +32,10 @@ mod stepper;
 pub mod walk;
 
 pub use controller::{ControllerKind, WholeBodyController};
+pub use estimation::{EstimatorKind, EstimatorSection};
 pub use metrics::{
-    DynamicFilterMetrics, FootMetrics, Metrics, Stat, ThesisFigures, TickTime, TickTimer,
-    WalkMetrics,
+    Comparison, DynamicFilterMetrics, FootMetrics, Metrics, Stat, ThesisFigures, TickTime,
+    TickTimer, WalkMetrics,
 };
 pub use motion::{MotionSection, Side, Targets};
 pub use overlap::Overlap;
@@ -121,6 +123,10 @@ pub struct RunArgs {
     /// Size cap of the log in MB (replaces `[output] max_log_mb`, default 1024).
     #[arg(long, value_name = "MB")]
     max_log_mb: Option<f64>,
+    /// What feeds the controller (replaces `[estimator] kind`): `leg-odometry` (the sensors,
+    /// the default) or `ground-truth` (the simulator's exact state, for comparison).
+    #[arg(long, value_name = "KIND")]
+    estimator: Option<EstimatorKind>,
 }
 
 /// `--overlap` values.
@@ -141,6 +147,8 @@ pub struct RunOptions {
     pub overlap: Overlap,
     /// Size cap of the log in MB, replacing the scenario's `[output] max_log_mb`.
     pub max_log_mb: Option<f64>,
+    /// Replaces the scenario's `[estimator] kind`.
+    pub estimator: Option<EstimatorKind>,
     /// Raised to stop the run at the next tick: it then writes what it has, marked
     /// interrupted (the command's Ctrl-C, [`crate::interrupt`]).
     pub interrupt: Option<&'static AtomicBool>,
@@ -153,6 +161,7 @@ impl RunOptions {
             progress: false,
             overlap: Overlap::Never,
             max_log_mb: None,
+            estimator: None,
             interrupt: None,
         }
     }
@@ -169,6 +178,7 @@ impl RunOptions {
                 Overlap::Never
             },
             max_log_mb: None,
+            estimator: None,
             interrupt: Some(&crate::interrupt::FLAG),
         }
     }
@@ -178,6 +188,7 @@ impl RunOptions {
 pub fn run(args: RunArgs) -> Result<()> {
     let mut options = RunOptions::interactive();
     options.max_log_mb = args.max_log_mb;
+    options.estimator = args.estimator;
     match (args.serial, args.overlap) {
         (true, _) | (_, Some(OverlapArg::Never)) => options.overlap = Overlap::Never,
         (_, Some(OverlapArg::Always)) => options.overlap = Overlap::Always,
@@ -289,6 +300,9 @@ pub fn run_text(
             .with_max_log_mb(mb)
             .map_err(|e| anyhow!("{shown}: {e}"))?;
     }
+    if let Some(kind) = options.estimator {
+        scenario.estimator.kind = kind;
+    }
     let name = scenario.run_name(path);
     let base_dir = path.parent().unwrap_or(Path::new("."));
     let dir = output
@@ -324,6 +338,12 @@ fn log_columns(stabilized: bool) -> Vec<String> {
         "base_y",
         "base_z",
         "tick_us",
+        "com_est_x",
+        "com_est_y",
+        "com_est_z",
+        "base_est_x",
+        "base_est_y",
+        "base_est_z",
     ]
     .map(String::from)
     .to_vec();
@@ -381,8 +401,11 @@ pub fn run_scenario(
     let Setup {
         model,
         mut sim,
+        mut sensors,
         command: hold,
         q0,
+        feet: foot_sensors,
+        imu_frame,
         ..
     } = setup::build(scenario, base_dir)?;
     if model.nv < 6 || !model.has_free_flyer() {
@@ -439,6 +462,15 @@ pub fn run_scenario(
         model.frame_id(controller::TALOS_SOLES[1])?,
     ];
     let foot_joints = soles.map(|f| model.frames[f].parent_joint.unwrap_or(usize::MAX));
+    let mut estimator = estimation::RunEstimator::new(
+        &scenario.estimator,
+        &model,
+        &foot_sensors,
+        soles,
+        imu_frame,
+        scenario.sim.gravity,
+    )?;
+    estimator.reset(q.as_slice(), v.as_slice())?;
     let (com0, _, feet0) = com_and_soles(&sim, &soles)?;
     let ticks = (scenario.duration / dt).round() as usize;
     let mut plan = MotionPlan::new(
@@ -504,6 +536,7 @@ pub fn run_scenario(
     let (mut q, mut v) = (q, v);
     let shared = stepper::Shared::new(sim);
     let mut ticks_run = 0;
+    let (mut state_finite, mut base_speed, mut true_base) = (true, 0.0, base0);
     let overlap_counts = std::thread::scope(|scope| -> Result<(u64, u64)> {
         let mut stepper = Stepper::new(scope, &shared, options.overlap);
         for tick in 0..ticks {
@@ -513,12 +546,11 @@ pub fn run_scenario(
                 break;
             }
             plan.sample(t, &mut targets);
-            // What the sensors tell: CoM (base estimator), soles, contact wrenches (F/T).
-            let (com, com_velocity, placements, contact) = {
+            // What the robot does (the metrics' ground truth) and what its sensors tell the
+            // controller (through the estimator).
+            let (com, placements, mut contact) = {
                 let sim = stepper.sim()?;
-                q.copy_from(sim.q());
-                v.copy_from(sim.v());
-                let (com, com_velocity, placements) = com_and_soles(&sim, &soles)?;
+                let (com, _, placements) = com_and_soles(&sim, &soles)?;
                 let contact = measure_contacts(&sim, &foot_joints, &placements);
                 let (w, w_pos) = work(&sim, &model, dt);
                 m.work += w;
@@ -528,15 +560,56 @@ pub fn run_scenario(
                     &ankles,
                     [targets.feet[0].supporting, targets.feet[1].supporting],
                 );
-                (com, com_velocity, placements, contact)
+                sensors.update(&sim);
+                state_finite = sim.q().iter().chain(sim.v().iter()).all(|x| x.is_finite());
+                base_speed = Vector3::new(sim.v()[0], sim.v()[1], sim.v()[2]).norm();
+                true_base = Vector3::new(sim.q()[0], sim.q()[1], sim.q()[2]);
+                (com, placements, contact)
             };
             stepper.prepare();
+            estimator.update(&sensors, t);
+            let est = estimator.state();
+            q.copy_from(&est.q);
+            v.copy_from(&est.v);
+            m.estimate_error.push(
+                (est.com - com).norm(),
+                (Vector3::new(q[0], q[1], q[2]) - true_base).norm(),
+            );
+            // The ZMP as the thesis measured it, from the ankle F/T sensors' wrenches, placed
+            // at the soles' true placements so that it compares with the world's reference
+            // (the estimator's own ZMP is in its estimated world, for the controller).
+            let sensed = [0, 1].map(|k| corps_estimation::FootEstimate {
+                placement: placements[k],
+                ..est.feet[k]
+            });
+            let dbg_old = contact.zmp;
+            contact.zmp = corps_estimation::zmp_of_feet(&sensed).map(|p| [p.x, p.y]);
+            if let (Some(a), Some(b)) = (dbg_old, contact.zmp) {
+                if ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt() > 0.02
+                    && std::env::var("DBG").is_ok()
+                {
+                    eprintln!(
+                        "t {t:.3} old {a:?} new {b:?} fz {:?} w0 {:?} w1 {:?} p0 {:?} p1 {:?}",
+                        contact.foot_fz,
+                        est.feet[0].wrench.as_slice(),
+                        est.feet[1].wrench.as_slice(),
+                        placements[0].translation.as_slice(),
+                        placements[1].translation.as_slice()
+                    );
+                }
+            }
             let measured = Measured {
-                com,
-                com_velocity,
-                zmp: contact.zmp.map(|[x, y]| nalgebra::Vector2::new(x, y)),
-                feet: placements.map(|p| isometry(&p)),
-                foot_wrenches: contact.foot_wrenches,
+                com: est.com,
+                com_velocity: est.com_velocity,
+                zmp: est.zmp,
+                feet: [0, 1].map(|k| isometry(&est.feet[k].placement)),
+                foot_wrenches: [0, 1].map(|k| {
+                    let w = &est.feet[k].wrench;
+                    Wrench::new(
+                        Vector3::new(w[0], w[1], w[2]),
+                        Vector3::new(w[3], w[4], w[5]),
+                    )
+                }),
             };
             let start = Instant::now();
             let reason = ctrl.tick(t, q.as_slice(), v.as_slice(), &targets, &measured);
@@ -557,13 +630,15 @@ pub fn run_scenario(
                 &mut row,
                 Sample {
                     t,
-                    base: Vector3::new(q[0], q[1], q[2]),
+                    base: true_base,
                     base0,
                     com,
                     feet,
                     targets: &targets,
                     contact: &contact,
                     tick_us: us,
+                    com_estimate: estimator.state().com,
+                    base_estimate: Vector3::new(q[0], q[1], q[2]),
                 },
                 &mut contact_start,
             );
@@ -578,10 +653,10 @@ pub fn run_scenario(
             let sample = TickSample {
                 t,
                 com_height: com.z - support(&placements),
-                base_speed: Vector3::new(v[0], v[1], v[2]).norm(),
+                base_speed,
                 total_contact_force: contact.total,
                 other_contact_force: contact.other,
-                state_finite: q.iter().chain(v.iter()).all(|x| x.is_finite()),
+                state_finite,
                 safe_command,
             };
             if verdict.observe(&sample).is_some() {
@@ -601,6 +676,9 @@ pub fn run_scenario(
     m.duration = ticks_run as f64 * dt;
     m.verdict = verdict.finish(m.duration);
     m.overlapped_ticks = overlap_counts.0;
+    m.estimator = scenario.estimator.kind;
+    m.estimator_errors = estimator.errors;
+    m.first_estimator_error = estimator.first_error.clone();
     m.thesis = scenario.thesis.clone();
     if let Some(walk) = plan.walk() {
         // Where the plan puts the base: its final feet midpoint plus the base's starting
@@ -629,6 +707,7 @@ pub fn run_scenario(
     for (foot, sum) in m.feet.iter_mut().zip(force_sum) {
         foot.force_mean = sum / ticks_run.max(1) as f64;
     }
+    m.against_thesis = m.thesis_comparison();
     let mut files = vec![
         log.finish()?,
         output::write_atomic(dir, "metrics.txt", m.to_string().as_bytes())?,
@@ -768,6 +847,9 @@ struct Sample<'a> {
     targets: &'a Targets,
     contact: &'a ContactSample,
     tick_us: f64,
+    /// The controller's estimate of the CoM and base position.
+    com_estimate: Vector3<f64>,
+    base_estimate: Vector3<f64>,
 }
 
 /// Updates the metrics with one tick and fills `row` with its tracked signals, in
@@ -815,6 +897,8 @@ fn record(
     row.extend(s.contact.foot_fz);
     row.extend(s.base.iter());
     row.push(s.tick_us);
+    row.extend(s.com_estimate.iter());
+    row.extend(s.base_estimate.iter());
     let drift = (s.base - s.base0).norm();
     m.base_drift = drift;
     m.base_drift_peak = m.base_drift_peak.max(drift);

@@ -119,6 +119,7 @@ fn simulate(
         feet,
         ticks,
         q0,
+        ..
     } = setup;
     let ft_names: Vec<String> = sensors.force_torque_names().map(String::from).collect();
     let header = log::columns(&model, &ft_names, &feet);

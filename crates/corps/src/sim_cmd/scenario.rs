@@ -54,6 +54,9 @@ pub struct Scenario {
     pub motion: crate::run::MotionSection,
     /// The documents' figures for this experiment, printed beside ours (`corps run`).
     pub thesis: Option<crate::run::ThesisFigures>,
+    /// How the controller learns the robot's state from its sensors (`corps run`).
+    #[serde(default)]
+    pub estimator: crate::run::EstimatorSection,
 }
 
 fn completed() -> Verdict {

@@ -35,6 +35,8 @@ pub struct Setup {
     /// The command held for the whole run.
     pub command: Command,
     pub feet: Vec<Foot>,
+    /// Frame of the IMU (None: the root body).
+    pub imu_frame: Option<usize>,
     /// Number of control ticks to simulate.
     pub ticks: usize,
     /// Starting configuration (after placement).
@@ -131,6 +133,12 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         })
         .collect::<Result<Vec<_>>>()?;
 
+    let imu_frame = layout
+        .imu
+        .as_deref()
+        .map(|f| model.frame_id(f))
+        .transpose()
+        .map_err(|e| anyhow!("sensors.imu: {e}"))?;
     let ticks = (scenario.duration / scenario.sim.control_dt).round() as usize;
     Ok(Setup {
         model,
@@ -138,6 +146,7 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         sensors,
         command,
         feet,
+        imu_frame,
         ticks,
         q0,
     })

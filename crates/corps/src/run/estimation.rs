@@ -1,0 +1,144 @@
+//! `[estimator]` of a `corps run` scenario: what the controller knows of the robot. By default
+//! it sees the sensors (encoders, joint velocities, IMU, ankle F/T, with the scenario's
+//! `[noise]`) through leg odometry; `kind = "ground_truth"` gives it the simulator's exact
+//! state, for comparison only.
+//!
+//! ```toml
+//! [estimator]
+//! kind = "leg_odometry"      # or "ground_truth"
+//! contact_on = 30.0          # N: a foot enters contact above this normal force
+//! contact_off = 15.0         # N: and leaves it below this one
+//! velocity_fusion_time = 0.02 # s: base velocity from the IMU below 1/T, from the legs above
+//! settle_share = 0.25        # a landing foot anchors the odometry once it carries this share
+//! ```
+
+use crate::sim_cmd::setup::Foot;
+use anyhow::{bail, Result};
+use corps_estimation::{
+    BaseSource, Estimator, EstimatorSettings, FootSensor, KinematicEstimator, Readings,
+};
+use corps_model::Model;
+use corps_sim::Sensors;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// What feeds the controller.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize, Serialize, clap::ValueEnum)]
+#[serde(rename_all = "snake_case")]
+pub enum EstimatorKind {
+    /// Leg odometry and the IMU on the measured (noisy) readings.
+    #[default]
+    LegOdometry,
+    /// The simulator's exact state and contact wrenches.
+    GroundTruth,
+}
+
+/// `[estimator]`.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct EstimatorSection {
+    pub kind: EstimatorKind,
+    pub contact_on: f64,
+    pub contact_off: f64,
+    pub velocity_fusion_time: f64,
+    pub settle_share: f64,
+}
+
+impl Default for EstimatorSection {
+    fn default() -> Self {
+        let d = EstimatorSettings::default();
+        Self {
+            kind: EstimatorKind::default(),
+            contact_on: d.contact_on,
+            contact_off: d.contact_off,
+            velocity_fusion_time: d.velocity_fusion_time,
+            settle_share: d.settle_share,
+        }
+    }
+}
+
+/// The estimator of a run and the readings it is fed.
+pub(crate) struct RunEstimator {
+    kind: EstimatorKind,
+    estimator: KinematicEstimator,
+    /// Readings that could not be used (the estimate was held), and the first reason.
+    pub errors: usize,
+    pub first_error: Option<String>,
+}
+
+impl RunEstimator {
+    /// The estimator of `section` for the feet `feet` (left, right) standing on the soles
+    /// `soles`, with the IMU at `imu_frame` (None: the root body).
+    pub(crate) fn new(
+        section: &EstimatorSection,
+        model: &Arc<Model>,
+        feet: &[Foot],
+        soles: [usize; 2],
+        imu_frame: Option<usize>,
+        gravity: [f64; 3],
+    ) -> Result<Self> {
+        if feet.len() != 2 {
+            bail!(
+                "estimator: corps run needs two feet with F/T sensors in [sensors] feet, found {}",
+                feet.len()
+            );
+        }
+        let feet = feet
+            .iter()
+            .zip(soles)
+            .map(|(f, sole)| FootSensor {
+                sensor: f.sensor,
+                sensor_frame: f.frame,
+                sole_frame: sole,
+            })
+            .collect();
+        let imu = match imu_frame {
+            Some(f) => f,
+            None => model
+                .frames
+                .iter()
+                .position(|f| f.parent_joint == Some(1))
+                .unwrap_or(0),
+        };
+        let settings = EstimatorSettings {
+            base: match section.kind {
+                EstimatorKind::LegOdometry => BaseSource::LegOdometry,
+                EstimatorKind::GroundTruth => BaseSource::Direct,
+            },
+            contact_on: section.contact_on,
+            contact_off: section.contact_off,
+            gravity,
+            velocity_fusion_time: section.velocity_fusion_time,
+            settle_share: section.settle_share,
+        };
+        Ok(Self {
+            kind: section.kind,
+            estimator: KinematicEstimator::new(model.clone(), feet, imu, settings)?,
+            errors: 0,
+            first_error: None,
+        })
+    }
+
+    /// Starts from the robot's state at the handover.
+    pub(crate) fn reset(&mut self, q: &[f64], v: &[f64]) -> Result<()> {
+        Ok(self.estimator.reset(q, v)?)
+    }
+
+    /// Reads the sensors of the tick at `t`; an unusable reading holds the estimate and is
+    /// counted.
+    pub(crate) fn update(&mut self, sensors: &Sensors, t: f64) {
+        let readings: &Readings = match self.kind {
+            EstimatorKind::LegOdometry => sensors.measured(),
+            EstimatorKind::GroundTruth => sensors.truth(),
+        };
+        if let Err(e) = self.estimator.update(readings) {
+            self.errors += 1;
+            self.first_error
+                .get_or_insert_with(|| format!("t = {t:.3} s: {e}"));
+        }
+    }
+
+    pub(crate) fn state(&self) -> &corps_estimation::EstimatedState {
+        self.estimator.state()
+    }
+}
