@@ -39,6 +39,28 @@ fn spawn_run(args: &[&str]) -> Child {
         .expect("starts")
 }
 
+/// `corps run SCENARIO -o OUT --duration 0.1`: (success, stderr).
+fn short_run(scenario: &Path, out: &Path) -> (bool, String) {
+    corps_run(&[
+        scenario.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--duration",
+        "0.1",
+    ])
+}
+
+/// The rows of a CSV log, each checked to have as many values as the header has columns.
+fn whole_rows(text: &str) -> Vec<Vec<f64>> {
+    let mut lines = text.lines();
+    let columns = lines.next().unwrap().split(',').count();
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.iter().all(|r| r.len() == columns), "a row is cut");
+    rows
+}
+
 /// Waits until `path` holds rows past `t` seconds (or panics after a minute).
 fn wait_for_rows(path: &Path, t: f64) {
     let start = Instant::now();
@@ -124,25 +146,14 @@ fn a_killed_run_leaves_whole_rows_up_to_its_last_flush() {
     run.wait().unwrap();
     let text = std::fs::read_to_string(&partial).unwrap();
     assert!(text.ends_with('\n'), "whole rows only");
-    let mut lines = text.lines();
-    let columns = lines.next().unwrap().split(',').count();
-    let rows: Vec<Vec<f64>> = lines
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect();
-    assert!(rows.iter().all(|r| r.len() == columns));
+    let rows = whole_rows(&text);
     assert!(rows.last().unwrap()[0] > 1.5);
     assert!(
         !out.join("log.csv").exists(),
         "a killed run is no finished log"
     );
     // The directory is free again.
-    let (ok, err) = corps_run(&[
-        s.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--duration",
-        "0.1",
-    ]);
+    let (ok, err) = short_run(&s, &out);
     assert!(ok, "{err}");
     assert!(out.join("log.csv").exists() && !partial.exists());
 }
@@ -172,13 +183,7 @@ fn ctrl_c_stops_the_run_with_a_whole_log_marked_interrupted_and_status_130() {
     let last = stderr.lines().last().unwrap_or_default();
     assert!(last.starts_with("corps: interrupted at t = "), "{stderr}");
     // The log is a finished one, of whole rows, ending where the metrics say.
-    let text = std::fs::read_to_string(out.join("log.csv")).unwrap();
-    let mut lines = text.lines();
-    let columns = lines.next().unwrap().split(',').count();
-    let rows: Vec<Vec<f64>> = lines
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect();
-    assert!(rows.iter().all(|r| r.len() == columns));
+    let rows = whole_rows(&std::fs::read_to_string(out.join("log.csv")).unwrap());
     let m: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("metrics.json")).unwrap()).unwrap();
     let at = m["interrupted_at"].as_f64().expect("marked interrupted");
@@ -195,13 +200,7 @@ fn plots_false_removes_the_plots_of_an_earlier_run() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
     let s = stand();
-    let (ok, err) = corps_run(&[
-        s.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--duration",
-        "0.1",
-    ]);
+    let (ok, err) = short_run(&s, &out);
     assert!(ok, "{err}");
     assert!(out.join("com.png").is_file());
     let text = std::fs::read_to_string(&s).unwrap();
@@ -209,13 +208,7 @@ fn plots_false_removes_the_plots_of_an_earlier_run() {
     let text = text.replacen("[output]\n", "[output]\nplots = false\n", 1);
     assert!(text.contains("plots = false"));
     std::fs::write(&no_plots, text).unwrap();
-    let (ok, err) = corps_run(&[
-        no_plots.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--duration",
-        "0.1",
-    ]);
+    let (ok, err) = short_run(&no_plots, &out);
     assert!(ok, "{err}");
     let pngs: Vec<_> = std::fs::read_dir(&out)
         .unwrap()

@@ -337,13 +337,13 @@ fn log_columns(stabilized: bool) -> Vec<String> {
         "base_x",
         "base_y",
         "base_z",
-        "tick_us",
         "com_est_x",
         "com_est_y",
         "com_est_z",
         "base_est_x",
         "base_est_y",
         "base_est_z",
+        "tick_us",
     ]
     .map(String::from)
     .to_vec();
@@ -896,9 +896,9 @@ fn record(
     }
     row.extend(s.contact.foot_fz);
     row.extend(s.base.iter());
-    row.push(s.tick_us);
     row.extend(s.com_estimate.iter());
     row.extend(s.base_estimate.iter());
+    row.push(s.tick_us);
     let drift = (s.base - s.base0).norm();
     m.base_drift = drift;
     m.base_drift_peak = m.base_drift_peak.max(drift);
