@@ -414,6 +414,13 @@ pub fn run_scenario(
     let dt = scenario.sim.control_dt;
     let settle_ticks = (section.settle / dt).round() as usize;
     for _ in 0..settle_ticks {
+        if crate::interrupt::raised(options.interrupt) {
+            return Err(crate::interrupt::Interrupted {
+                t: 0.0,
+                dir: dir.display().to_string(),
+            }
+            .into());
+        }
         sim.step(&hold)?;
     }
     let handover = sim.time();
