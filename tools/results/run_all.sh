@@ -46,6 +46,7 @@ out=$(mktemp -d)
   done
   echo
   cat tools/results/shortfall_causes.md
+  cat tools/results/bad_input.md
 } > RESULTS.md.partial
 mv RESULTS.md.partial RESULTS.md
 rm -rf "$out"
