@@ -30,7 +30,7 @@ mod soles;
 
 pub use kinematic::{BaseSource, EstimatorSettings, FootSensor, KinematicEstimator};
 pub use readings::{ImuReading, Readings};
-pub use soles::zmp_of_feet;
+pub use soles::{zmp_of_feet, ZMP_MIN_FORCE};
 
 use corps_model::spatial::Se3;
 use nalgebra::{DVector, Vector2, Vector3, Vector6};

@@ -11,19 +11,8 @@ pub const ZMP_MIN_FORCE: f64 = 10.0;
 /// The reading `[f; τ]` of a sensor at placement `sole_m_sensor` in the sole frame, as the
 /// wrench in the sole frame about the sole origin: `f_s = R f`, `τ_s = R τ + t × R f`.
 pub(crate) fn sensor_to_sole(sole_m_sensor: &Se3, reading: &[f64; 6]) -> Vector6<f64> {
-    let f = Force::new(
-        Vector3::new(reading[0], reading[1], reading[2]),
-        Vector3::new(reading[3], reading[4], reading[5]),
-    );
-    let w = sole_m_sensor.act_force(&f);
-    Vector6::new(
-        w.linear.x,
-        w.linear.y,
-        w.linear.z,
-        w.angular.x,
-        w.angular.y,
-        w.angular.z,
-    )
+    let f = Force::from_vector(&Vector6::from_row_slice(reading));
+    sole_m_sensor.act_force(&f).to_vector()
 }
 
 /// ZMP (world x, y) of the loaded feet (positive normal force: the ZMP weighs every foot by

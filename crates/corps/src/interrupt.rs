@@ -29,7 +29,7 @@ pub fn raised(flag: Option<&AtomicBool>) -> bool {
 
 /// The error of a run stopped by Ctrl-C: it wrote what it had.
 #[derive(Debug, thiserror::Error)]
-#[error("interrupted at t = {t:.3} s: the log in {dir} holds the rows up to there")]
+#[error("interrupted at t = {t:.3} s; what the run had written is in {dir}")]
 pub struct Interrupted {
     /// Simulated time of the last tick run (s).
     pub t: f64,

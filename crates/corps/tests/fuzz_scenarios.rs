@@ -90,7 +90,7 @@ proptest! {
         ..ProptestConfig::default()
     })]
 
-    #[test]
+    /// The property, run once by the test below (which then reports its counts).
     fn a_mutated_scenario_ends_in_ok_or_an_error(
         which in 0..SCENARIOS.len(),
         kind in 0usize..4,
@@ -132,8 +132,7 @@ proptest! {
 }
 
 #[test]
-fn the_fuzz_reports_how_many_inputs_it_tried() {
-    // Runs after (or beside) the property; prints the counts for RESULTS.md.
+fn mutated_scenarios_end_in_ok_or_a_one_line_error() {
     a_mutated_scenario_ends_in_ok_or_an_error();
     let (runs, errors) = (RUNS.load(Ordering::Relaxed), ERRORS.load(Ordering::Relaxed));
     println!("mutated scenarios: {runs} ran, {errors} refused with one line");

@@ -64,7 +64,7 @@ use stepper::Stepper;
 /// Standard gravity of the run's LIPM references (ZMP, walking) and cost of transport (m/s²).
 pub(crate) const GRAVITY: f64 = 9.81;
 /// Vertical force (N) below which the ZMP is not defined (the robot is in the air).
-const ZMP_MIN_FZ: f64 = 10.0;
+const ZMP_MIN_FZ: f64 = corps_estimation::ZMP_MIN_FORCE;
 
 /// `[controller]`.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -309,7 +309,8 @@ pub fn run_text(
         .map(Path::to_path_buf)
         .or_else(|| scenario.output.directory.clone())
         .unwrap_or_else(|| PathBuf::from("out").join(&name));
-    run_scenario(&scenario, &name, base_dir, &dir, options).map_err(|e| anyhow!("{shown}: {e:#}"))
+    // A context, not a new message, so that the command still sees an `Interrupted`.
+    run_scenario(&scenario, &name, base_dir, &dir, options).with_context(|| shown.to_string())
 }
 
 /// The log's columns, in row order: the tracked signals, then with a stabilizer each foot's
@@ -589,22 +590,7 @@ pub fn run_scenario(
                 placement: placements[k],
                 ..est.feet[k]
             });
-            let dbg_old = contact.zmp;
             contact.zmp = corps_estimation::zmp_of_feet(&sensed).map(|p| [p.x, p.y]);
-            if let (Some(a), Some(b)) = (dbg_old, contact.zmp) {
-                if ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt() > 0.02
-                    && std::env::var("DBG").is_ok()
-                {
-                    eprintln!(
-                        "t {t:.3} old {a:?} new {b:?} fz {:?} w0 {:?} w1 {:?} p0 {:?} p1 {:?}",
-                        contact.foot_fz,
-                        est.feet[0].wrench.as_slice(),
-                        est.feet[1].wrench.as_slice(),
-                        placements[0].translation.as_slice(),
-                        placements[1].translation.as_slice()
-                    );
-                }
-            }
             let measured = Measured {
                 com: est.com,
                 com_velocity: est.com_velocity,
@@ -644,7 +630,7 @@ pub fn run_scenario(
                     targets: &targets,
                     contact: &contact,
                     tick_us: us,
-                    com_estimate: estimator.state().com,
+                    com_estimate: est.com,
                     base_estimate: Vector3::new(q[0], q[1], q[2]),
                 },
                 &mut contact_start,
@@ -753,9 +739,10 @@ fn com_and_soles(
 
 /// Contact forces of one tick.
 struct ContactSample {
-    /// ZMP on the contact plane (world x, y), None when the robot is in the air.
+    /// ZMP (world x, y) from the ankle F/T wrenches, None when the robot is in the air
+    /// (filled by the run once the estimator has read the sensors).
     zmp: Option<[f64; 2]>,
-    /// Height of that plane (force-weighted mean height of the loaded points).
+    /// Height of the contact plane (force-weighted mean height of the loaded points).
     plane_z: f64,
     /// Vertical force on each foot (N).
     foot_fz: [f64; 2],
@@ -767,9 +754,9 @@ struct ContactSample {
     total: f64,
 }
 
-/// ZMP and forces from the simulator's contact points (world frame):
-/// `p = Σ (x_i f_zi − (z_i − z_p) f_xi) / Σ f_zi` (and y alike) on the plane z_p; each foot's
-/// wrench in its sole frame `soles[k]`, about the sole origin.
+/// Forces from the simulator's contact points (world frame): the contact plane's height, each
+/// foot's vertical force and wrench in its sole frame `soles[k]` about the sole origin, the
+/// force on other bodies and the total.
 fn measure_contacts(sim: &Simulator, foot_joints: &[usize; 2], soles: &[Se3; 2]) -> ContactSample {
     let c = sim.contact();
     let points = sim.contact_points();
@@ -799,25 +786,9 @@ fn measure_contacts(sim: &Simulator, foot_joints: &[usize; 2], soles: &[Se3; 2])
         let rt = soles[k].rotation.transpose();
         Wrench::new(rt * world[k].0, rt * world[k].1)
     });
-    if fz < ZMP_MIN_FZ {
-        return ContactSample {
-            zmp: None,
-            plane_z: 0.0,
-            foot_fz,
-            foot_wrenches,
-            other,
-            total: total.norm(),
-        };
-    }
-    let plane_z = zf / fz;
-    let (mut px, mut py) = (0.0, 0.0);
-    for (f, p) in c.point_forces.iter().zip(&c.point_positions) {
-        px += p.x * f.z - (p.z - plane_z) * f.x;
-        py += p.y * f.z - (p.z - plane_z) * f.y;
-    }
     ContactSample {
-        zmp: Some([px / fz, py / fz]),
-        plane_z,
+        zmp: None,
+        plane_z: if fz < ZMP_MIN_FZ { 0.0 } else { zf / fz },
         foot_fz,
         foot_wrenches,
         other,
