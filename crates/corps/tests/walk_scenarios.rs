@@ -49,9 +49,9 @@ fn assert_travelled(m: &Metrics, at_least: f64, planned: f64) {
 /// shortfall fails, and so does a listed one that corps no longer has (strike it from the list
 /// and from RESULTS.md). Both numbers are printed for every figure.
 fn assert_shortfalls(m: &Metrics, known: &[&str]) {
-    let rows = m.thesis_comparison();
+    let rows = &m.against_thesis;
     assert!(!rows.is_empty(), "no thesis figures in the scenario");
-    for c in &rows {
+    for c in rows {
         println!(
             "{:<28} corps {:>9.4}  thesis {:>9.4}{}",
             c.figure,

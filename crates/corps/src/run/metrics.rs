@@ -327,7 +327,8 @@ pub struct Metrics {
     pub thesis: Option<ThesisFigures>,
     /// How the run ended.
     pub verdict: VerdictReport,
-    /// The documents' figures beside corps' (filled at the end of the run).
+    /// The documents' figures beside corps' ([`Metrics::thesis_comparison`], filled at the
+    /// end of the run; printed and written from here).
     pub against_thesis: Vec<Comparison>,
     /// What fed the controller, and the readings it could not use (the estimate was held).
     pub estimator: super::EstimatorKind,
@@ -474,11 +475,7 @@ impl fmt::Display for Metrics {
                 self.fallbacks
             )?,
         }
-        let source = match self.estimator {
-            super::EstimatorKind::LegOdometry => "leg odometry + IMU + ankle F/T (the sensors)",
-            super::EstimatorKind::GroundTruth => "ground truth (the simulator's exact state)",
-        };
-        for c in self.thesis_comparison().iter().filter(|c| c.worse) {
+        for c in self.against_thesis.iter().filter(|c| c.worse) {
             let (scale, unit) = if c.figure.starts_with("cost") {
                 (1.0, "")
             } else {
@@ -492,6 +489,10 @@ impl fmt::Display for Metrics {
                 c.thesis * scale
             )?;
         }
+        let source = match self.estimator {
+            super::EstimatorKind::LegOdometry => "leg odometry + IMU + ankle F/T (the sensors)",
+            super::EstimatorKind::GroundTruth => "ground truth (the simulator's exact state)",
+        };
         let e = &self.estimate_error;
         writeln!(
             f,

@@ -375,22 +375,18 @@ fn check_noise(noise: &SensorNoise) -> Result<(), String> {
                 ));
             }
         }
-    }
-    let value = serde_json::to_value(noise).map_err(|e| format!("noise: {e}"))?;
-    let Some(channels) = value.as_object() else {
-        return Ok(());
-    };
-    for (channel, n) in channels {
-        let get = |k: &str| n.get(k).and_then(|x| x.as_f64());
-        match (get("std"), get("bias")) {
-            (Some(std), Some(bias)) if std >= 0.0 && std.is_finite() && bias.is_finite() => {}
-            (std, _) if !std.is_some_and(|s| s >= 0.0 && s.is_finite()) => {
-                return Err(format!(
-                    "noise.{channel}.std: must be a finite number ≥ 0, got {}",
-                    std.map_or("non-finite".to_string(), |s| s.to_string())
-                ))
-            }
-            _ => return Err(format!("noise.{channel}.bias: must be finite")),
+        if !(n.std >= 0.0 && n.std.is_finite()) {
+            let got = if n.std.is_finite() {
+                n.std.to_string()
+            } else {
+                "non-finite".into()
+            };
+            return Err(format!(
+                "noise.{channel}.std: must be a finite number ≥ 0, got {got}"
+            ));
+        }
+        if !n.bias.is_finite() {
+            return Err(format!("noise.{channel}.bias: must be finite"));
         }
     }
     Ok(())
