@@ -1,5 +1,6 @@
 //! Actuation modes: joint torques, joint positions through a PD servo (TALOS' high-gain
-//! position control), joint velocities. Torques are always clamped at the URDF effort limits.
+//! position control) or a PID servo with clamps (as Gazebo's joint position controllers),
+//! joint velocities. Torques are always clamped at the URDF effort limits.
 
 use crate::error::{Result, SimError};
 use corps_model::{difference_to, Data, Model};
@@ -20,11 +21,24 @@ pub enum Command {
     Velocity(DVector<f64>),
 }
 
-/// Per-joint PD gains of the servo (size na each).
+/// Per-joint PD gains of the servo (size na each), and optionally an integral term.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ServoGains {
     pub kp: DVector<f64>,
     pub kd: DVector<f64>,
+    /// The integral term and clamps of a PID servo (position commands only).
+    pub integral: Option<IntegralTerm>,
+}
+
+/// The integral part of a PID position servo, per actuated joint (size na each), as ROS'
+/// `control_toolbox::Pid` behind Gazebo's position controllers: the integral torque
+/// `τ_i ← clamp(τ_i + ki e dt, ±i_clamp)` advances once per control period, and the servo's
+/// whole torque `kp e + kd ė + τ_i` is clamped at `torque_clamp` (then the effort limit).
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntegralTerm {
+    pub ki: DVector<f64>,
+    pub i_clamp: DVector<f64>,
+    pub torque_clamp: DVector<f64>,
 }
 
 impl ServoGains {
@@ -69,7 +83,11 @@ impl ServoGains {
             let apparent = 1.0 / minv[(first + k, first + k)];
             2.0 * damping_ratio * (kp[k] * apparent).sqrt()
         });
-        Ok(ServoGains { kp, kd })
+        Ok(ServoGains {
+            kp,
+            kd,
+            integral: None,
+        })
     }
 
     /// Gains giving each joint, alone, a critically damped response at `bandwidth_hz`, scaled
@@ -90,6 +108,7 @@ impl ServoGains {
         Ok(ServoGains {
             kp: &diag * (w * w),
             kd: &diag * (2.0 * w),
+            integral: None,
         })
     }
 }
@@ -108,16 +127,39 @@ pub fn first_actuated(model: &Model) -> usize {
 pub struct Actuators {
     pub gains: ServoGains,
     error: DVector<f64>,
+    /// The PID servo's integral torque per actuated joint (zero without one).
+    integral: DVector<f64>,
     first: usize,
 }
 
 impl Actuators {
     pub fn new(model: &Model, gains: ServoGains) -> Self {
+        let first = first_actuated(model);
         Self {
             gains,
             error: DVector::zeros(model.nv),
-            first: first_actuated(model),
+            integral: DVector::zeros(model.nv - first),
+            first,
         }
+    }
+
+    /// Advances the PID servo's integral torque over one control period `dt` under `cmd` at
+    /// configuration `q`; returns whether it changed (nothing happens without an integral
+    /// term or a position command).
+    pub fn integrate(&mut self, model: &Model, cmd: &Command, q: &[f64], dt: f64) -> bool {
+        let (Some(pid), Command::Position { q_ref, .. }) = (&self.gains.integral, cmd) else {
+            return false;
+        };
+        let _ = difference_to(model, q, q_ref.as_slice(), self.error.as_mut_slice());
+        let f = self.first;
+        let mut changed = false;
+        for k in 0..model.nv - f {
+            let before = self.integral[k];
+            let c = pid.i_clamp[k];
+            self.integral[k] = (before + pid.ki[k] * self.error[f + k] * dt).clamp(-c, c);
+            changed |= self.integral[k] != before;
+        }
+        changed
     }
 
     /// Checks a command's sizes and values.
@@ -162,6 +204,12 @@ impl Actuators {
                     tau[f + k] = self.gains.kp[k] * self.error[f + k]
                         + self.gains.kd[k] * (v_ref[k] - v[f + k]);
                 }
+                if let Some(pid) = &self.gains.integral {
+                    for k in 0..model.nv - f {
+                        let c = pid.torque_clamp[k];
+                        tau[f + k] = (tau[f + k] + self.integral[k]).clamp(-c, c);
+                    }
+                }
             }
             Command::Velocity(vr) => {
                 for k in 0..model.nv - f {
@@ -188,7 +236,13 @@ impl Actuators {
     ) {
         let f = self.first;
         for k in 0..model.nv - f {
-            let saturated = tau[f + k].abs() >= model.effort_limit[f + k];
+            let clamp = match (&self.gains.integral, cmd) {
+                (Some(pid), Command::Position { .. }) => {
+                    pid.torque_clamp[k].min(model.effort_limit[f + k])
+                }
+                _ => model.effort_limit[f + k],
+            };
+            let saturated = tau[f + k].abs() >= clamp;
             let (kp, kd) = match cmd {
                 _ if saturated => (0.0, 0.0),
                 Command::Torque(_) => (0.0, 0.0),

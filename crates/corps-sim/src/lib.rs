@@ -25,7 +25,7 @@
 //! let model = Arc::new(build_model_from_urdf_str(urdf, RootJoint::FreeFlyer).unwrap());
 //! let mut q = neutral(&model);
 //! q[2] = 0.2; // 15 cm above the ground
-//! let gains = ServoGains { kp: Default::default(), kd: Default::default() };
+//! let gains = ServoGains { kp: Default::default(), kd: Default::default(), integral: None };
 //! let terrain = Terrain::preset(TerrainPreset::Flat, 0.8);
 //! let mut sim = Simulator::new(model, terrain, SimSettings::default(), q.as_slice(), gains).unwrap();
 //! for _ in 0..1000 {
@@ -45,7 +45,7 @@ mod sensors;
 mod simulator;
 mod terrain;
 
-pub use actuation::{first_actuated, Actuators, Command, ServoGains};
+pub use actuation::{first_actuated, Actuators, Command, IntegralTerm, ServoGains};
 pub use contact::{point_force, Anchor, ContactParams, PointForce, PointLinearization};
 pub use contact_points::{sample_contact_points, ContactPoint, ShapeBound};
 pub use disturbance::Push;

@@ -336,6 +336,13 @@ impl Simulator {
         if !store_command(&mut self.last_cmd, cmd) {
             self.first_stage_valid = false;
         }
+        let period = self.settings.control_dt;
+        if self
+            .actuators
+            .integrate(&self.model, cmd, self.q.as_slice(), period)
+        {
+            self.first_stage_valid = false;
+        }
         let h = self.settings.dt();
         for _ in 0..self.settings.substeps {
             match self.settings.integrator {

@@ -78,3 +78,42 @@ fn a_diverging_run_stops_at_once_with_its_reason() {
     assert_eq!(v["verdict"], "diverged");
     assert!(v["t"].as_f64().unwrap() < 0.25, "{v}");
 }
+
+/// simple_humanoid with every default (`corps sim`, only its URDF and SRDF named): its one
+/// simulated shape is the 1 m test cylinder on its waist, so it would stand on its trunk. The
+/// scenario is refused before it runs, in one line, with nothing written.
+#[test]
+fn simple_humanoid_defaults_are_refused_before_running() {
+    let tmp = tempfile::tempdir().unwrap();
+    let scenario = tmp.path().join("simple.toml");
+    let robot = repo("robots/simple_humanoid_description");
+    std::fs::write(
+        &scenario,
+        format!(
+            "duration = 2.0\n[robot]\nurdf = \"{}\"\nsrdf = \"{}\"\n",
+            robot.join("urdf/simple_humanoid.urdf").display(),
+            robot.join("srdf/simple_humanoid.srdf").display()
+        ),
+    )
+    .unwrap();
+    let out = tmp.path().join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_corps"))
+        .arg("sim")
+        .arg(&scenario)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .expect("runs");
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        stderr.contains("initial.place_on_ground")
+            && stderr.contains("the lowest collision shape is on the base link 'BODY'"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        !out.join("log.csv").exists(),
+        "a refused scenario writes nothing"
+    );
+}

@@ -45,6 +45,7 @@ pub fn no_gains(model: &Model) -> ServoGains {
     ServoGains {
         kp: DVector::zeros(na),
         kd: DVector::zeros(na),
+        integral: None,
     }
 }
 

@@ -7,6 +7,7 @@
 //! - [`log`]: the CSV log; [`plots`]: the PNG plots; [`summary`]: the printed summary.
 
 pub(crate) mod log;
+pub(crate) mod pid_gains;
 pub(crate) mod plots;
 pub(crate) mod pushes;
 pub(crate) mod scenario;

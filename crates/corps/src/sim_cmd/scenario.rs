@@ -131,6 +131,9 @@ pub struct ActuationSection {
     pub saturation_angle: f64,
     /// Damping ratio of each joint on its own inertia.
     pub damping_ratio: f64,
+    /// A PID gains file (relative to the scenario) replacing the high-gain PD servo, e.g.
+    /// Gazebo's TALOS position controllers (`config/talos/gazebo_pid.toml`).
+    pub pid_gains: Option<PathBuf>,
 }
 
 impl Default for ActuationSection {
@@ -139,6 +142,7 @@ impl Default for ActuationSection {
             mode: ActuationMode::Position,
             saturation_angle: 0.02,
             damping_ratio: 1.0,
+            pid_gains: None,
         }
     }
 }
@@ -365,7 +369,7 @@ pub const MAX_NOISE: f64 = 1e6;
 
 /// Every noise channel needs a finite standard deviation ≥ 0 and a finite bias, both at most
 /// [`MAX_NOISE`] in magnitude.
-fn check_noise(noise: &SensorNoise) -> Result<(), String> {
+pub(crate) fn check_noise(noise: &SensorNoise) -> Result<(), String> {
     for (channel, n) in noise.channels() {
         for (key, x) in [("std", n.std), ("bias", n.bias)] {
             if x.abs() > MAX_NOISE {

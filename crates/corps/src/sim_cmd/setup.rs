@@ -68,13 +68,17 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
     check_clear_of_terrain(&model, &terrain, &q0, scenario.sim.contact.point_spacing)?;
 
     let act = &scenario.actuation;
-    let gains = ServoGains::high_gain(
-        &model,
-        q0.as_slice(),
-        act.saturation_angle,
-        act.damping_ratio,
-    )
-    .map_err(|e| anyhow!("actuation: {e}"))?;
+    let gains = match &act.pid_gains {
+        Some(path) => super::pid_gains::load(&model, &base_dir.join(path))
+            .map_err(|e| anyhow!("actuation.pid_gains: {e}"))?,
+        None => ServoGains::high_gain(
+            &model,
+            q0.as_slice(),
+            act.saturation_angle,
+            act.damping_ratio,
+        )
+        .map_err(|e| anyhow!("actuation: {e}"))?,
+    };
     let na = model.nv - first_actuated(&model);
     let command = match act.mode {
         ActuationMode::Position => Command::Position {
