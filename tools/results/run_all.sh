@@ -14,6 +14,15 @@ out=$(mktemp -d)
   echo "Errors in mm (average / standard deviation / peak per axis); where a scenario carries the"
   echo "documents' figures they stand in the right-hand columns. Controller times are wall-clock"
   echo "on the shared 2-core VM, not benchmarks (see BENCHMARKS.md)."
+  echo
+  echo "Sensing: every run feeds its controller through the estimator (leg odometry + IMU + ankle"
+  echo "F/T). The first table of each scenario has the sensors of the thesis's Gazebo model, which"
+  echo "are noiseless but for a gyro bias of 8e-7 rad/s (\`scenarios/sensors/talos_gazebo.toml\`,"
+  echo "with its sources): like with like with the thesis's simulated tables. Where the scenario"
+  echo "carries the thesis's figures, two more runs follow: on the simulator's exact state"
+  echo "(\`--estimator ground-truth\`), and on the real TALOS' sensor noise"
+  echo "(\`scenarios/sensors/talos_hardware.toml\`: encoder and joint-velocity levels from seed 000's"
+  echo "19-bit encoders; IMU and F/T levels assumed, as that file says)."
   for f in scenarios/walk/*.toml scenarios/control/*.toml; do
     name=$(basename "$f" .toml)
     echo
@@ -30,7 +39,14 @@ out=$(mktemp -d)
       echo
       echo '```text'
       ./target/release/corps run "$f" -o "$out/$name.truth" --estimator ground-truth 2>&1 \
-        | grep -E "^  (error|CoM|ZMP|left foot  |right foot  |cost|short|state)" || echo "(the run stopped with an error)"
+        | grep -E "^  (error|CoM|ZMP|left foot  |right foot  |while|cost|short|state|verdict)" || echo "(the run stopped with an error)"
+      echo '```'
+      echo
+      echo "With the estimator on TALOS' sensor noise (\`--noise scenarios/sensors/talos_hardware.toml\`):"
+      echo
+      echo '```text'
+      ./target/release/corps run "$f" -o "$out/$name.noise" --noise scenarios/sensors/talos_hardware.toml 2>&1 \
+        | grep -E "^  (error|CoM|ZMP|left foot  |right foot  |while|cost|short|state|verdict)" || echo "(the run stopped with an error)"
       echo '```'
     fi
   done
@@ -43,6 +59,18 @@ out=$(mktemp -d)
   for f in scenarios/walk/*.toml scenarios/control/*.toml; do
     name=$(basename "$f" .toml)
     grep "short of the thesis" "$out/$name/metrics.txt" 2>/dev/null | sed "s/^  short of the thesis: /- $name: /" || true
+    grep -E "^  verdict: (fell|diverged|controller_failed)" "$out/$name/metrics.txt" 2>/dev/null | sed "s/^  verdict: /- $name: /" || true
+  done
+  echo
+  echo "Further, on TALOS' sensor noise only (the \`talos_hardware.toml\` runs):"
+  echo
+  for f in scenarios/walk/*.toml scenarios/control/*.toml; do
+    name=$(basename "$f" .toml)
+    [ -f "$out/$name.noise/metrics.txt" ] || continue
+    grep -h "short of the thesis" "$out/$name.noise/metrics.txt" | sort > "$out/a" || true
+    grep -h "short of the thesis" "$out/$name/metrics.txt" | sort > "$out/b" || true
+    comm -23 "$out/a" "$out/b" | sed "s/^  short of the thesis: /- $name: /"
+    grep -E "^  verdict: (fell|diverged|controller_failed)" "$out/$name.noise/metrics.txt" | sed "s/^  verdict: /- $name: /" || true
   done
   echo
   cat tools/results/shortfall_causes.md

@@ -69,7 +69,7 @@ fn walk(c: &mut Criterion) {
                     Path::new(SCENARIO),
                     Some(out.path()),
                     None,
-                    options,
+                    options.clone(),
                 )
                 .expect("the walk runs");
                 assert_eq!(report.metrics.fallbacks, 0, "the controller fell back");

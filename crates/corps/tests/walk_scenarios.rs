@@ -106,7 +106,15 @@ fn tsid_torque_walks_with_the_fast_timing() {
 fn tsid_torque_climbs_six_stairs() {
     let m = walk("tsid_torque_stairs");
     assert_travelled(&m, 1.7, 1.8);
-    assert_shortfalls(&m, &["ZMP x average", "ZMP x peak"]);
+    assert_shortfalls(
+        &m,
+        &[
+            "ZMP x average",
+            "ZMP x peak",
+            "ZMP x average while walking",
+            "ZMP x peak while walking",
+        ],
+    );
 }
 
 #[test]
@@ -116,7 +124,14 @@ fn ik_position_climbs_six_stairs() {
     // support alone the IK's QP turned infeasible at 3.7 s and TALOS fell).
     let m = walk("ik_position_stairs");
     assert_travelled(&m, 1.7, 1.8);
-    assert_shortfalls(&m, &["ZMP y average"]);
+    assert_shortfalls(
+        &m,
+        &[
+            "ZMP y average",
+            "ZMP x average while walking",
+            "ZMP y average while walking",
+        ],
+    );
     assert_dynamic_filter_helped(&m);
 }
 
@@ -126,14 +141,14 @@ fn tsid_torque_walks_over_the_tilted_platforms() {
     // two platforms rolled ±10°, two of them with both feet on opposite platforms.
     let m = walk("tsid_torque_platforms");
     assert_travelled(&m, 1.45, 1.5);
-    assert_shortfalls(&m, &["ZMP y peak"]);
+    assert_shortfalls(&m, &["ZMP y peak", "ZMP y peak while walking"]);
 }
 
 #[test]
 fn ik_position_walks_over_the_tilted_platforms() {
     let m = walk("ik_position_platforms");
     assert_travelled(&m, 1.45, 1.5);
-    assert_shortfalls(&m, &["ZMP y peak"]);
+    assert_shortfalls(&m, &["ZMP y peak", "ZMP y peak while walking"]);
     assert_dynamic_filter_helped(&m);
 }
 
@@ -143,7 +158,18 @@ fn ik_position_walks_over_the_tilted_platforms() {
 fn tsid_position_walks_over_the_tilted_platforms() {
     let m = walk("tsid_position_platforms");
     assert_dynamic_filter_helped(&m);
-    assert_shortfalls(&m, &["ZMP x average", "ZMP x peak", "ZMP y peak"]);
+    assert_shortfalls(
+        &m,
+        &[
+            "ZMP x average",
+            "ZMP x peak",
+            "ZMP y peak",
+            "ZMP x average while walking",
+            "ZMP x peak while walking",
+            "ZMP y average while walking",
+            "ZMP y peak while walking",
+        ],
+    );
 }
 
 #[test]
@@ -215,7 +241,7 @@ fn ik_position_walks_with_the_fast_timing() {
 fn tsid_position_walks_six_20_cm_steps() {
     let m = walk("tsid_position_20cm");
     assert_dynamic_filter_helped(&m);
-    assert_shortfalls(&m, &[]);
+    assert_shortfalls(&m, &["ZMP y average while walking"]);
 }
 
 #[test]
@@ -258,4 +284,45 @@ fn ik_position_steps_on_the_stick_with_the_ankle_admittance() {
 #[test]
 fn ik_position_steps_on_the_stick_with_the_ankle_gain_that_failed_in_seed_002() {
     walk("ik_position_stick_ankle_0_01");
+}
+
+/// The IK's 20 cm walk on PID joint servos with the gains of PAL Robotics' TALOS simulation
+/// (config/talos/gazebo_pid.toml), as the thesis's Gazebo ran position control. Seed 000
+/// Table 4.8 has position control spend about four times the torque controller's energy
+/// (C_et IK 1.68, TSID torque 0.44); corps' figures stay near the torque controller's, which is
+/// not a shortfall against the thesis's bound (lower is better) but is no reproduction of its
+/// result either: RESULTS.md gives both and the measured cause.
+#[test]
+fn ik_position_walks_on_gazebo_pid_servos() {
+    let m = walk("ik_position_20cm_gazebo_pid");
+    assert_shortfalls(&m, &["ZMP x peak"]);
+    let w = m.walk.as_ref().unwrap();
+    println!(
+        "C_et {:.2} (thesis 1.68), C_mt {:.2} (thesis 1.15)",
+        w.cost_of_transport, w.mechanical_cost_of_transport
+    );
+}
+
+/// TSID in position mode on the same PID servos falls with the estimator (a shortfall listed
+/// in RESULTS.md; the thesis walked it in Gazebo) and walks on the simulator's exact state.
+/// When it no longer falls, this test fails: move it to `walk` with its shortfalls.
+#[test]
+fn tsid_position_on_gazebo_pid_servos_falls_with_the_estimator_only() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/walk/tsid_position_20cm_gazebo_pid.toml");
+    let out = tempfile::tempdir().unwrap();
+    let m = run_file(&path, Some(out.path()), None, RunOptions::quiet())
+        .unwrap()
+        .metrics;
+    println!("{m}");
+    assert_eq!(m.verdict.verdict, Verdict::Fell, "{}", m.verdict);
+    let truth = RunOptions {
+        estimator: Some(corps::run::EstimatorKind::GroundTruth),
+        ..RunOptions::quiet()
+    };
+    let m = run_file(&path, Some(out.path()), None, truth)
+        .unwrap()
+        .metrics;
+    println!("{m}");
+    assert_eq!(m.verdict.verdict, Verdict::Completed, "{}", m.verdict);
 }

@@ -219,10 +219,25 @@ impl Metrics {
             errors.push((label, "x", &foot.error[0]));
             errors.push((label, "y", &foot.error[1]));
         }
-        for (name, axis, stat) in errors {
+        if let Some(w) = &self.while_walking {
+            let walking: Vec<(&str, &str, &Stat)> = vec![
+                ("CoM", "x", &w.com_error[0]),
+                ("CoM", "y", &w.com_error[1]),
+                ("ZMP", "x", &w.zmp_error[0]),
+                ("ZMP", "y", &w.zmp_error[1]),
+                ("left foot", "x", &w.feet_error[0][0]),
+                ("left foot", "y", &w.feet_error[0][1]),
+                ("right foot", "x", &w.feet_error[1][0]),
+                ("right foot", "y", &w.feet_error[1][1]),
+            ];
+            errors.extend(walking);
+        }
+        let whole_rows = 4 + 2 * self.feet.len();
+        for (k, (name, axis, stat)) in errors.into_iter().enumerate() {
+            let when = if k < whole_rows { "" } else { " while walking" };
             if let Some([avg, _, peak]) = t.get(name, axis) {
-                add(format!("{name} {axis} average"), stat.avg, avg);
-                add(format!("{name} {axis} peak"), stat.peak, peak);
+                add(format!("{name} {axis} average{when}"), stat.avg, avg);
+                add(format!("{name} {axis} peak{when}"), stat.peak, peak);
             }
         }
         if let Some(w) = &self.walk {
@@ -239,6 +254,20 @@ impl Metrics {
         }
         rows
     }
+}
+
+/// The tracking errors over the walk proper ([`super::walk::WalkMotion::walking_window`]):
+/// the whole run's averages are diluted by the standing before and after, and its peaks may
+/// come from the hand-over to walking.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct WalkingErrors {
+    /// The window, in seconds of controlled time.
+    pub start: f64,
+    pub end: f64,
+    pub com_error: Axes<3>,
+    pub zmp_error: Axes<2>,
+    /// Left then right foot.
+    pub feet_error: [Axes<3>; 2],
 }
 
 /// The figures of a walk.
@@ -323,6 +352,8 @@ pub struct Metrics {
     pub first_fallback: Option<String>,
     /// For a walk.
     pub walk: Option<WalkMetrics>,
+    /// The same errors over the walk proper (walks only).
+    pub while_walking: Option<WalkingErrors>,
     /// The documents' figures, printed beside ours.
     pub thesis: Option<ThesisFigures>,
     /// How the run ended.
@@ -332,6 +363,8 @@ pub struct Metrics {
     pub against_thesis: Vec<Comparison>,
     /// What fed the controller, and the readings it could not use (the estimate was held).
     pub estimator: super::EstimatorKind,
+    /// The sensors' noise: `noiseless`, the scenario's `[noise]`, or a profile's file.
+    pub sensor_noise: String,
     /// How far the controller's estimate was from the simulator's state.
     pub estimate_error: EstimateError,
     pub estimator_errors: usize,
@@ -385,6 +418,21 @@ impl fmt::Display for Metrics {
             let e = &foot.error;
             let name = format!("{} foot", foot.label);
             row(f, th, &name, &[("x", &e[0]), ("y", &e[1]), ("z", &e[2])])?;
+        }
+        if let Some(w) = &self.while_walking {
+            writeln!(
+                f,
+                "  while walking, t = {:.2}–{:.2} s (first lift-off to last touchdown):",
+                w.start, w.end
+            )?;
+            let c = &w.com_error;
+            row(f, th, "CoM", &[("x", &c[0]), ("y", &c[1]), ("z", &c[2])])?;
+            let z = &w.zmp_error;
+            row(f, th, "ZMP", &[("x", &z[0]), ("y", &z[1])])?;
+            for (e, foot) in w.feet_error.iter().zip(&self.feet) {
+                let name = format!("{} foot", foot.label);
+                row(f, th, &name, &[("x", &e[0]), ("y", &e[1]), ("z", &e[2])])?;
+            }
         }
         for foot in &self.feet {
             writeln!(
@@ -496,7 +544,8 @@ impl fmt::Display for Metrics {
         let e = &self.estimate_error;
         writeln!(
             f,
-            "  state estimate: {source}; error CoM {:.1} mm mean, {:.1} peak; base {:.1} mean, {:.1} peak",
+            "  state estimate: {source}, {}; error CoM {:.1} mm mean, {:.1} peak; base {:.1} mean, {:.1} peak",
+            self.sensor_noise,
             e.com_mean * 1e3,
             e.com_peak * 1e3,
             e.base_mean * 1e3,

@@ -28,6 +28,7 @@ pub mod motion;
 mod overlap;
 mod plot_buffer;
 mod plots;
+pub mod sensor_profile;
 mod stepper;
 pub mod walk;
 
@@ -35,7 +36,7 @@ pub use controller::{ControllerKind, WholeBodyController};
 pub use estimation::{EstimatorKind, EstimatorSection};
 pub use metrics::{
     Comparison, DynamicFilterMetrics, FootMetrics, Metrics, Stat, ThesisFigures, TickTime,
-    TickTimer, WalkMetrics,
+    TickTimer, WalkMetrics, WalkingErrors,
 };
 pub use motion::{MotionSection, Side, Targets};
 pub use overlap::Overlap;
@@ -55,6 +56,7 @@ use corps_sim::Simulator;
 use motion::MotionPlan;
 use nalgebra::Vector3;
 use plot_buffer::PlotBuffer;
+use sensor_profile::SensorProfile;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -127,6 +129,10 @@ pub struct RunArgs {
     /// the default) or `ground-truth` (the simulator's exact state, for comparison).
     #[arg(long, value_name = "KIND")]
     estimator: Option<EstimatorKind>,
+    /// Sensor noise from this file (`seed` and `[noise.<channel>]` tables, as in a scenario),
+    /// replacing the scenario's; see `scenarios/sensors/`.
+    #[arg(long, value_name = "FILE")]
+    noise: Option<PathBuf>,
 }
 
 /// `--overlap` values.
@@ -137,8 +143,8 @@ enum OverlapArg {
     Never,
 }
 
-/// How a run executes (never what it computes).
-#[derive(Clone, Copy, Debug)]
+/// How a run executes, and what replaces the scenario's estimator or sensor noise.
+#[derive(Clone, Debug)]
 pub struct RunOptions {
     /// Progress on stderr: a bar on a terminal, a line every few seconds otherwise.
     pub progress: bool,
@@ -149,6 +155,8 @@ pub struct RunOptions {
     pub max_log_mb: Option<f64>,
     /// Replaces the scenario's `[estimator] kind`.
     pub estimator: Option<EstimatorKind>,
+    /// Replaces the scenario's `[noise]` (and its `seed` when the profile gives one).
+    pub noise: Option<SensorProfile>,
     /// Raised to stop the run at the next tick: it then writes what it has, marked
     /// interrupted (the command's Ctrl-C, [`crate::interrupt`]).
     pub interrupt: Option<&'static AtomicBool>,
@@ -162,6 +170,7 @@ impl RunOptions {
             overlap: Overlap::Never,
             max_log_mb: None,
             estimator: None,
+            noise: None,
             interrupt: None,
         }
     }
@@ -179,6 +188,7 @@ impl RunOptions {
             },
             max_log_mb: None,
             estimator: None,
+            noise: None,
             interrupt: Some(&crate::interrupt::FLAG),
         }
     }
@@ -189,6 +199,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     let mut options = RunOptions::interactive();
     options.max_log_mb = args.max_log_mb;
     options.estimator = args.estimator;
+    options.noise = args.noise.as_deref().map(SensorProfile::read).transpose()?;
     match (args.serial, args.overlap) {
         (true, _) | (_, Some(OverlapArg::Never)) => options.overlap = Overlap::Never,
         (_, Some(OverlapArg::Always)) => options.overlap = Overlap::Always,
@@ -302,6 +313,10 @@ pub fn run_text(
     }
     if let Some(kind) = options.estimator {
         scenario.estimator.kind = kind;
+    }
+    if let Some(profile) = &options.noise {
+        scenario.noise = profile.noise.clone();
+        scenario.seed = profile.seed.unwrap_or(scenario.seed);
     }
     let name = scenario.run_name(path);
     let base_dir = path.parent().unwrap_or(Path::new("."));
@@ -514,6 +529,14 @@ pub fn run_scenario(
     let base0 = Vector3::new(q[0], q[1], q[2]);
     let mut contact_start: [Option<Vector3<f64>>; 2] = [None, None];
     let mut pgm = gait::PassivityGaitMeasure::default();
+    // The walk proper: its errors beside the whole run's, and the gait measure over it only.
+    let walking_window = plan.walk().and_then(|w| w.walking_window());
+    m.while_walking = walking_window.map(|(start, end)| WalkingErrors {
+        start,
+        end,
+        ..Default::default()
+    });
+    let walking = |t: f64| walking_window.is_some_and(|(a, b)| t >= a && t < b);
     // Ankle pitch and roll of each leg (TALOS: leg_*_5 and leg_*_6), as torque indices.
     let ankle = |name: &str| -> Result<usize> {
         let j = model.joint_id(name)?;
@@ -563,11 +586,13 @@ pub fn run_scenario(
                 let (w, w_pos) = work(&sim, &model, dt);
                 m.work += w;
                 m.positive_work += w_pos;
-                pgm.push(
-                    sim.applied_torques().as_slice(),
-                    &ankles,
-                    [targets.feet[0].supporting, targets.feet[1].supporting],
-                );
+                if walking(t) {
+                    pgm.push(
+                        sim.applied_torques().as_slice(),
+                        &ankles,
+                        [targets.feet[0].supporting, targets.feet[1].supporting],
+                    );
+                }
                 sensors.update(&sim);
                 state_finite = sim.q().iter().chain(sim.v().iter()).all(|x| x.is_finite());
                 base_speed = Vector3::new(sim.v()[0], sim.v()[1], sim.v()[2]).norm();
@@ -630,6 +655,7 @@ pub fn run_scenario(
                     targets: &targets,
                     contact: &contact,
                     tick_us: us,
+                    walking: walking(t),
                     com_estimate: est.com,
                     base_estimate: Vector3::new(q[0], q[1], q[2]),
                 },
@@ -670,6 +696,11 @@ pub fn run_scenario(
     m.verdict = verdict.finish(m.duration);
     m.overlapped_ticks = overlap_counts.0;
     m.estimator = scenario.estimator.kind;
+    m.sensor_noise = match &options.noise {
+        Some(profile) => format!("noise of {}", profile.name),
+        None if scenario.noise == corps_sim::SensorNoise::default() => "noiseless".into(),
+        None => "the scenario's [noise]".into(),
+    };
     m.estimator_errors = estimator.errors;
     m.first_estimator_error = estimator.first_error.clone();
     m.thesis = scenario.thesis.clone();
@@ -825,6 +856,8 @@ struct Sample<'a> {
     targets: &'a Targets,
     contact: &'a ContactSample,
     tick_us: f64,
+    /// Within the walk proper (the walking statistics count this tick).
+    walking: bool,
     /// The controller's estimate of the CoM and base position.
     com_estimate: Vector3<f64>,
     base_estimate: Vector3<f64>,
@@ -839,14 +872,23 @@ fn record(
     contact_start: &mut [Option<Vector3<f64>>; 2],
 ) {
     let c_ref = &s.targets.com;
-    for k in 0..3 {
-        m.com_error[k].push(s.com[k] - c_ref.pos[k]);
-    }
     // Reference ZMP of the CoM reference on the measured contact plane.
     let zmp_ref = s.targets.reference_zmp(s.contact.plane_z, GRAVITY);
+    let mut walking = m.while_walking.as_mut().filter(|_| s.walking);
+    for k in 0..3 {
+        let e = s.com[k] - c_ref.pos[k];
+        m.com_error[k].push(e);
+        if let Some(w) = walking.as_deref_mut() {
+            w.com_error[k].push(e);
+        }
+    }
     if let Some(p) = s.contact.zmp {
         for k in 0..2 {
-            m.zmp_error[k].push(p[k] - zmp_ref[k]);
+            let e = p[k] - zmp_ref[k];
+            m.zmp_error[k].push(e);
+            if let Some(w) = walking.as_deref_mut() {
+                w.zmp_error[k].push(e);
+            }
         }
     }
     row.clear();
@@ -860,7 +902,11 @@ fn record(
         let target = &s.targets.feet[k];
         let r = target.reference.placement.translation;
         for (a, stat) in foot.error.iter_mut().enumerate() {
-            stat.push(s.feet[k][a] - r[a]);
+            let e = s.feet[k][a] - r[a];
+            stat.push(e);
+            if let Some(w) = walking.as_deref_mut() {
+                w.feet_error[k][a].push(e);
+            }
         }
         foot.force_peak = foot.force_peak.max(s.contact.foot_fz[k]);
         // Slip: horizontal motion while the plan has the foot on the ground and it is loaded.

@@ -368,6 +368,17 @@ impl WalkMotion {
         }
     }
 
+    /// The walk proper, in seconds after the handover: from the first lift-off of a foot to
+    /// the last touchdown (the standing before and after left out); None when no foot ever
+    /// leaves the ground.
+    pub fn walking_window(&self) -> Option<(f64, f64)> {
+        let stepping =
+            |r: &WalkingReference| !(r.phase.left_in_contact() && r.phase.right_in_contact());
+        let first = self.samples.iter().position(stepping)?;
+        let last = self.samples.iter().rposition(stepping)?;
+        Some((first as f64 * self.dt, (last + 1) as f64 * self.dt))
+    }
+
     /// The planned CoM and feet at the end of the run (world).
     pub fn final_reference(&self) -> &WalkingReference {
         self.samples.last().unwrap_or_else(|| unreachable!("n ≥ 1"))
