@@ -6,7 +6,11 @@
 //! 2. base orientation from the IMU: `R_b = R_imu · (ᵇR_imu(q))ᵀ`, and base rate
 //!    `ω_b = ᵇR_imu (ω_gyro − ω_rel)`, with `ω_rel` the IMU body's rate relative to the base
 //!    from the joint velocities;
-//! 3. a foot is in contact above `contact_on` of normal force (until it drops below
+//! 3. with `calibrate_foot_weight` (a sensor that carries the foot below it), each foot's
+//!    F/T reading loses that foot's weight (the subtree's mass and centre of mass from the
+//!    model at the last estimate, gravity in the sole's last estimated orientation); the
+//!    foot's inertial forces stay in it, as on the robot;
+//!    a foot is in contact above `contact_on` of normal force (until it drops below
 //!    `contact_off`); once it carries `settle_share` of the feet's load it settles and is
 //!    anchored where the estimate puts it; a landing foot that carries less (it may still
 //!    slide or bounce) follows the estimate of the settled feet;
@@ -22,7 +26,7 @@
 
 use crate::soles::{sensor_to_sole, zmp_of_feet};
 use crate::{EstimatedState, EstimationError, Estimator, FootEstimate, Readings};
-use corps_model::spatial::{rotation, Se3};
+use corps_model::spatial::{rotation, Force, Se3};
 use corps_model::{
     center_of_mass, forward_kinematics, frame_placement, frame_velocity, Data, JointKind, Model,
     ReferenceFrame,
@@ -60,6 +64,9 @@ pub struct EstimatorSettings {
     /// Time constant (s) of the complementary filter on the base velocity: the IMU's
     /// acceleration below it, leg odometry above it (0: odometry alone).
     pub velocity_fusion_time: f64,
+    /// The foot sensors read the weight of the foot below them (real sensors; a simulated
+    /// contact sensor does not): remove it from each reading.
+    pub calibrate_foot_weight: bool,
 }
 
 impl Default for EstimatorSettings {
@@ -73,6 +80,7 @@ impl Default for EstimatorSettings {
             gravity: [0.0, 0.0, -9.81],
             velocity_fusion_time: 0.02,
             settle_share: 0.25,
+            calibrate_foot_weight: false,
         }
     }
 }
@@ -121,6 +129,8 @@ pub struct FootSensor {
 #[derive(Clone, Debug)]
 struct Foot {
     sensor: usize,
+    /// Joint of the body carrying the sensor: its subtree hangs below the sensor.
+    sensor_joint: usize,
     sole_frame: usize,
     sole_m_sensor: Se3,
     /// Where the sole stays while the foot is settled (world).
@@ -185,6 +195,7 @@ impl KinematicEstimator {
                 }
                 Ok(Foot {
                     sensor: f.sensor,
+                    sensor_joint: sensor.parent_joint.unwrap_or(0),
                     sole_frame: f.sole_frame,
                     sole_m_sensor: sole.placement.inverse() * sensor.placement,
                     anchor: None,
@@ -289,6 +300,15 @@ impl KinematicEstimator {
                     expected: foot.sensor + 1,
                 })?;
             estimate.wrench = sensor_to_sole(&foot.sole_m_sensor, reading);
+            if self.settings.calibrate_foot_weight {
+                estimate.wrench -= weight_below(
+                    &self.model,
+                    &self.data,
+                    foot.sensor_joint,
+                    &estimate.placement,
+                    &self.settings.gravity,
+                );
+            }
             let fz = estimate.wrench[2];
             estimate.in_contact = if estimate.in_contact {
                 fz >= self.settings.contact_off
@@ -318,6 +338,30 @@ impl KinematicEstimator {
         s.zmp = zmp_of_feet(&s.feet);
         Ok(())
     }
+}
+
+/// The gravity wrench, in the frame `sole` (world placement), of the body of `joint` and its
+/// subtree at the placements of `data`: `Σ_k (m_k g, c_k × m_k g)`, moved from the world
+/// origin to the sole. What a sensor above them reads of their weight.
+fn weight_below(
+    model: &Model,
+    data: &Data,
+    joint: usize,
+    sole: &Se3,
+    gravity: &[f64; 3],
+) -> Vector6<f64> {
+    let g = Vector3::from(*gravity);
+    let mut f = Force::zero();
+    for k in joint..model.njoints() {
+        if !model.supports(joint, k) {
+            continue;
+        }
+        let inertia = &model.inertias[k];
+        let c = data.o_m_i[k].act_point(&inertia.lever);
+        let w = g * inertia.mass;
+        f += Force::new(w, c.cross(&w));
+    }
+    sole.act_inv_force(&f).to_vector()
 }
 
 /// Forward kinematics at (q, v, a = 0), with a model error as a setup error.

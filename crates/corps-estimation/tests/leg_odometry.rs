@@ -8,8 +8,8 @@ use corps_estimation::{
 };
 use corps_model::{build_model_from_urdf_file, load_reference_configurations, Model, RootJoint};
 use corps_sim::{
-    place_on_ground, Command, Integrator, Push, SensorLayout, SensorNoise, Sensors, ServoGains,
-    SimSettings, Simulator, Terrain, TerrainPreset,
+    place_on_ground, Command, ForceTorqueModel, Integrator, Push, SensorLayout, SensorNoise,
+    Sensors, ServoGains, SimSettings, Simulator, Terrain, TerrainPreset,
 };
 use nalgebra::{DVector, Vector3};
 use std::sync::Arc;
@@ -36,6 +36,10 @@ struct Bench {
 }
 
 fn standing(noise: SensorNoise) -> Bench {
+    standing_with(noise, ForceTorqueModel::Contact)
+}
+
+fn standing_with(noise: SensorNoise, force_torque_model: ForceTorqueModel) -> Bench {
     let model = talos();
     let mut q = model
         .reference_configuration("half_sitting")
@@ -57,7 +61,11 @@ fn standing(noise: SensorNoise) -> Bench {
         gains,
     )
     .unwrap();
-    let sensors = Sensors::new(&model, &SensorLayout::default(), noise, 7).unwrap();
+    let layout = SensorLayout {
+        force_torque_model,
+        ..SensorLayout::default()
+    };
+    let sensors = Sensors::new(&model, &layout, noise, 7).unwrap();
     Bench {
         model,
         sim,
@@ -67,6 +75,14 @@ fn standing(noise: SensorNoise) -> Bench {
 }
 
 fn estimator(model: &Arc<Model>, base: BaseSource) -> KinematicEstimator {
+    estimator_with(model, base, false)
+}
+
+fn estimator_with(
+    model: &Arc<Model>,
+    base: BaseSource,
+    calibrate_foot_weight: bool,
+) -> KinematicEstimator {
     let sole = |name: &str| model.frame_id(name).unwrap();
     let feet = ["leg_left_sole_fix_joint", "leg_right_sole_fix_joint"]
         .iter()
@@ -79,6 +95,7 @@ fn estimator(model: &Arc<Model>, base: BaseSource) -> KinematicEstimator {
         .collect();
     let settings = EstimatorSettings {
         base,
+        calibrate_foot_weight,
         ..Default::default()
     };
     KinematicEstimator::new(model.clone(), feet, sole("imu_link"), settings).unwrap()
@@ -221,9 +238,10 @@ fn the_direct_base_on_exact_readings_is_the_simulator_state() {
 }
 
 #[test]
-fn the_zmp_from_the_ankle_sensors_is_the_simulators_and_the_feet_carry_the_weight() {
-    let mut b = standing(SensorNoise::default());
-    let mut est = estimator(&b.model, BaseSource::LegOdometry);
+fn the_zmp_from_the_calibrated_ankle_sensors_is_the_simulators_and_the_feet_carry_the_weight() {
+    // Sensors that read the wrench passed through them (the feet hang below), calibrated.
+    let mut b = standing_with(SensorNoise::default(), ForceTorqueModel::Transmitted);
+    let mut est = estimator_with(&b.model, BaseSource::LegOdometry, true);
     est.reset(b.q0.as_slice(), &vec![0.0; b.model.nv]).unwrap();
     run(&mut b, &mut est, 0.5, true);
     let s = est.state();
@@ -241,11 +259,18 @@ fn the_zmp_from_the_ankle_sensors_is_the_simulators_and_the_feet_carry_the_weigh
     // frames sit 0.1 mm under the floor here), the exact one at z = 0; the forces are within
     // 2° of vertical, so the two differ by less than 0.1 mm.
     assert!((zmp - exact).norm() < 1e-4, "zmp {zmp}, exact {exact}");
+    // The sensors read the weight above the feet (each foot hangs below its sensor, 1.6 kg on
+    // TALOS); calibrated, the feet's wrenches carry the whole robot.
     let total: f64 = s.feet.iter().map(|f| f.wrench[2]).sum();
     let weight = b.model.total_mass() * 9.81;
     assert!(
-        (total - weight).abs() < 0.02 * weight,
+        (total - weight).abs() < 2e-3 * weight,
         "{total} N vs {weight} N"
+    );
+    let read: f64 = r.force_torque[..2].iter().map(|w| w[2]).sum();
+    assert!(
+        weight - read > 30.0,
+        "the sensors read {read} N of {weight} N"
     );
 }
 

@@ -51,6 +51,8 @@ pub use contact_points::{sample_contact_points, ContactPoint, ShapeBound};
 pub use disturbance::Push;
 pub use error::{Result, SimError};
 pub use placement::place_on_ground;
-pub use sensors::{ImuReading, Noise, Readings, SensorLayout, SensorNoise, Sensors};
+pub use sensors::{
+    ForceTorqueModel, ImuReading, Noise, Readings, SensorLayout, SensorNoise, Sensors,
+};
 pub use simulator::{ContactState, Integrator, SimSettings, Simulator};
 pub use terrain::{Penetration, Surface, Terrain, TerrainPreset};

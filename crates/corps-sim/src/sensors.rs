@@ -61,12 +61,27 @@ impl SensorNoise {
     }
 }
 
+/// What a force/torque sensor reads.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ForceTorqueModel {
+    /// The contact wrench on its body alone, as Gazebo's contact sensor that seed 000's
+    /// simulations read.
+    #[default]
+    Contact,
+    /// The wrench passed through the sensor, as a real one: the contact plus the weight and
+    /// inertia of the body carrying it and that body's subtree ([`transmitted_wrench`]).
+    Transmitted,
+}
+
 /// Where the sensors are: F/T sensor frames (name → frame) and the IMU frame.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SensorLayout {
     /// Named force/torque sensors and the frame each measures in.
     pub force_torque: Vec<(String, String)>,
+    /// What they read.
+    pub force_torque_model: ForceTorqueModel,
     /// Frame of the IMU (None: the root body).
     pub imu: Option<String>,
 }
@@ -81,14 +96,41 @@ impl Default for SensorLayout {
                 ("left_wrist".into(), "wrist_left_ft_link".into()),
                 ("right_wrist".into(), "wrist_right_ft_link".into()),
             ],
+            force_torque_model: ForceTorqueModel::Contact,
             imu: Some("imu_link".into()),
         }
     }
 }
 
+/// The wrench a force/torque sensor on body `joint` measures (world frame, at the origin):
+/// what the part of the robot beyond it — that body and its subtree — passes through it,
+/// `Σ_k (f_contact,k − (I_k a_k + v_k ×* I_k v_k))`, with ABA's accelerations, which hold −g
+/// (Featherstone's RNEA force on a subtree). So a foot's sensor reads the contact wrench plus
+/// the foot's own weight and inertia, as a real ankle sensor does: in the air, the foot's
+/// weight hanging from it.
+fn transmitted_wrench(
+    model: &Model,
+    data: &corps_model::Data,
+    contact: &[Force],
+    joint: usize,
+) -> Force {
+    let mut f = Force::zero();
+    for (k, on_body) in contact.iter().enumerate().skip(joint) {
+        if !model.supports(joint, k) {
+            continue;
+        }
+        let inertia = model.inertias[k].transformed(&data.o_m_i[k]);
+        let momentum = inertia.mul_motion(&data.ov[k]);
+        let inertial = inertia.mul_motion(&data.oa[k]) + data.ov[k].cross_force(&momentum);
+        f += *on_body - inertial;
+    }
+    f
+}
+
 /// Reads the simulator's sensors.
 pub struct Sensors {
     layout: Vec<(String, usize, Se3)>,
+    force_torque_model: ForceTorqueModel,
     imu: (usize, Se3),
     noise: SensorNoise,
     rng: ChaCha8Rng,
@@ -145,6 +187,7 @@ impl Sensors {
         };
         Ok(Self {
             layout: ft,
+            force_torque_model: layout.force_torque_model,
             imu,
             noise,
             rng: ChaCha8Rng::seed_from_u64(seed),
@@ -192,7 +235,11 @@ impl Sensors {
         let wrenches = &sim.contact().body_wrenches;
         for ((_, joint, placement), out) in self.layout.iter().zip(t.force_torque.iter_mut()) {
             let o_m_s = data.o_m_i[*joint] * *placement;
-            *out = force6(&o_m_s.act_inv_force(&wrenches[*joint]));
+            let read = match self.force_torque_model {
+                ForceTorqueModel::Contact => wrenches[*joint],
+                ForceTorqueModel::Transmitted => transmitted_wrench(model, data, wrenches, *joint),
+            };
+            *out = force6(&o_m_s.act_inv_force(&read));
         }
         for (w, out) in wrenches.iter().zip(t.contact_wrenches.iter_mut()) {
             *out = force6(w);

@@ -167,7 +167,10 @@ impl Simulator {
         settings.validate()?;
         model.check_configuration(q0)?;
         let na = model.nv - crate::actuation::first_actuated(&model);
-        if gains.kp.len() != na || gains.kd.len() != na {
+        let integral_sizes_ok = gains.integral.as_ref().is_none_or(|i| {
+            i.ki.len() == na && i.i_clamp.len() == na && i.torque_clamp.len() == na
+        });
+        if gains.kp.len() != na || gains.kd.len() != na || !integral_sizes_ok {
             return Err(SimError::Setting {
                 name: "servo gains".into(),
                 reason: format!("need {na} entries"),

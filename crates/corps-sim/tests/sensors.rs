@@ -5,9 +5,22 @@ use common::*;
 use corps_sim::*;
 
 fn standing(noise: SensorNoise, seed: u64, seconds: f64) -> (Simulator, Sensors) {
+    standing_with(noise, seed, seconds, ForceTorqueModel::Contact)
+}
+
+fn standing_with(
+    noise: SensorNoise,
+    seed: u64,
+    seconds: f64,
+    force_torque_model: ForceTorqueModel,
+) -> (Simulator, Sensors) {
     let (mut sim, q) = standing_talos();
     let model = sim.model().clone();
-    let mut sensors = Sensors::new(&model, &SensorLayout::default(), noise, seed).unwrap();
+    let layout = SensorLayout {
+        force_torque_model,
+        ..SensorLayout::default()
+    };
+    let mut sensors = Sensors::new(&model, &layout, noise, seed).unwrap();
     let cmd = hold(&model, &q);
     for _ in 0..(seconds * 1000.0) as usize {
         sim.step(&cmd).unwrap();
@@ -17,8 +30,27 @@ fn standing(noise: SensorNoise, seed: u64, seconds: f64) -> (Simulator, Sensors)
 }
 
 #[test]
-fn standing_robot_sensors_read_gravity_and_weight() {
+fn contact_sensors_read_the_contact_wrench_alone() {
+    // Gazebo's contact sensor: the ankles carry the whole weight, the wrists nothing.
     let (sim, sensors) = standing(SensorNoise::default(), 0, 2.0);
+    let t = sensors.truth();
+    let weight = sim.model().total_mass() * 9.81;
+    let fz = t.force_torque[0][2] + t.force_torque[1][2];
+    assert!(
+        (fz - weight).abs() < 1e-3 * weight,
+        "{fz} N, weight {weight} N"
+    );
+    assert_eq!(t.force_torque[2], [0.0; 6]);
+}
+
+#[test]
+fn standing_robot_sensors_read_gravity_and_weight() {
+    let (sim, sensors) = standing_with(
+        SensorNoise::default(),
+        0,
+        2.0,
+        ForceTorqueModel::Transmitted,
+    );
     let t = sensors.truth();
     // IMU at rest: specific force of magnitude g, pointing up in the world.
     let a = nalgebra::Vector3::from(t.imu.linear_acceleration);
@@ -31,19 +63,40 @@ fn standing_robot_sensors_read_gravity_and_weight() {
         r * a
     );
     assert!(nalgebra::Vector3::from(t.imu.angular_velocity).norm() < 0.05);
-    // Ankle F/T sensors (sole frames, upright) carry the weight between them.
-    let weight = sim.model().total_mass() * 9.81;
+    // Each sensor carries what hangs below it: the mass of its body and that body's subtree.
+    let model = sim.model();
+    let below = |frame: &str| -> f64 {
+        let j = model.frames[model.frame_id(frame).unwrap()]
+            .parent_joint
+            .unwrap();
+        (j..model.njoints())
+            .filter(|&k| model.supports(j, k))
+            .map(|k| model.inertias[k].mass)
+            .sum()
+    };
+    let feet = below("leg_left_sole_fix_joint") + below("leg_right_sole_fix_joint");
+    assert!(feet > 2.0, "the feet weigh {feet} kg");
+    // Ankle F/T sensors (sole frames, upright) carry the weight above the feet between them.
+    let weight = model.total_mass() * 9.81;
     let fz = t.force_torque[0][2] + t.force_torque[1][2];
+    let above_feet = weight - feet * 9.81;
     assert!(
-        (fz - weight).abs() < 0.01 * weight,
-        "ankle sensors {fz:.1} N, weight {weight:.1} N"
+        (fz - above_feet).abs() < 1e-3 * weight,
+        "ankle sensors {fz:.2} N, weight above the feet {above_feet:.2} N"
     );
     assert!(
         t.force_torque[0][2] > 0.3 * weight && t.force_torque[1][2] > 0.3 * weight,
         "both feet loaded"
     );
-    // Wrists touch nothing.
-    assert_eq!(t.force_torque[2], [0.0; 6]);
+    // Wrists touch nothing: each holds the hand's weight (frames rotated with the arm, so
+    // the force's norm; the servo-held arm sways a little).
+    let hand = below("wrist_left_ft_link") * 9.81;
+    let f = nalgebra::Vector3::from_row_slice(&t.force_torque[2][..3]);
+    assert!(
+        (f.norm() - hand).abs() < 1e-2 * hand,
+        "left wrist {:.3} N, hand {hand:.3} N",
+        f.norm()
+    );
     // Measured = truth without noise.
     assert_eq!(sensors.measured(), t);
 }
@@ -83,6 +136,7 @@ fn unknown_sensor_frames_are_named_in_the_error() {
     let layout = SensorLayout {
         force_torque: vec![("left".into(), "no_such_frame".into())],
         imu: None,
+        ..SensorLayout::default()
     };
     let e = Sensors::new(&model, &layout, SensorNoise::default(), 0)
         .err()

@@ -68,7 +68,8 @@ pub(crate) struct RunEstimator {
 
 impl RunEstimator {
     /// The estimator of `section` for the feet `feet` (left, right) standing on the soles
-    /// `soles`, with the IMU at `imu_frame` (None: the root body).
+    /// `soles`, with the IMU at `imu_frame` (None: the root body); `foot_weight`: the F/T
+    /// sensors carry the feet's weight, which the estimator removes.
     pub(crate) fn new(
         section: &EstimatorSection,
         model: &Arc<Model>,
@@ -76,6 +77,7 @@ impl RunEstimator {
         soles: [usize; 2],
         imu_frame: Option<usize>,
         gravity: [f64; 3],
+        foot_weight: bool,
     ) -> Result<Self> {
         if feet.len() != 2 {
             bail!(
@@ -110,6 +112,7 @@ impl RunEstimator {
             gravity,
             velocity_fusion_time: section.velocity_fusion_time,
             settle_share: section.settle_share,
+            calibrate_foot_weight: foot_weight,
         };
         Ok(Self {
             kind: section.kind,

@@ -317,6 +317,9 @@ pub fn run_text(
     if let Some(profile) = &options.noise {
         scenario.noise = profile.noise.clone();
         scenario.seed = profile.seed.unwrap_or(scenario.seed);
+        scenario.force_torque_model = profile
+            .force_torque_model
+            .unwrap_or(scenario.force_torque_model);
     }
     let name = scenario.run_name(path);
     let base_dir = path.parent().unwrap_or(Path::new("."));
@@ -492,6 +495,7 @@ pub fn run_scenario(
         soles,
         imu_frame,
         scenario.sim.gravity,
+        scenario.force_torque_model == corps_sim::ForceTorqueModel::Transmitted,
     )?;
     estimator.reset(q.as_slice(), v.as_slice())?;
     let (com0, _, feet0) = com_and_soles(&sim, &soles)?;

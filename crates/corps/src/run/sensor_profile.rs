@@ -1,10 +1,10 @@
-//! A sensor profile: the `[noise]` tables of a scenario (and optionally its `seed`) in a file
-//! of their own, so that one set of sensor levels, stated once with its sources, applies to
+//! A sensor profile: the `[noise]` tables of a scenario (and optionally its `seed` and
+//! `force_torque_model`) in a file of their own, so that one set of sensor levels, stated once with its sources, applies to
 //! every scenario (`corps run --noise FILE`; `scenarios/sensors/`).
 
 use crate::sim_cmd::scenario::check_noise;
 use anyhow::{anyhow, Result};
-use corps_sim::SensorNoise;
+use corps_sim::{ForceTorqueModel, SensorNoise};
 use serde::Deserialize;
 use std::path::Path;
 
@@ -18,6 +18,9 @@ pub struct SensorProfile {
     /// Replaces the scenario's noise seed when given.
     #[serde(default)]
     pub seed: Option<u64>,
+    /// Replaces the scenario's `force_torque_model` when given.
+    #[serde(default)]
+    pub force_torque_model: Option<ForceTorqueModel>,
     /// Replaces the scenario's `[noise]` as a whole (channels left out are noiseless).
     #[serde(default)]
     pub noise: SensorNoise,

@@ -3,7 +3,7 @@
 
 use super::pushes::PushSpec;
 use corps_loop::verdict::{Criteria, Verdict};
-use corps_sim::{SensorNoise, SimSettings, TerrainPreset};
+use corps_sim::{ForceTorqueModel, SensorNoise, SimSettings, TerrainPreset};
 use serde::Deserialize;
 use std::path::PathBuf;
 
@@ -42,6 +42,11 @@ pub struct Scenario {
     /// Sensor noise per channel (none by default).
     #[serde(default)]
     pub noise: SensorNoise,
+    /// What the F/T sensors read: `contact` (the contact wrench, as Gazebo's sensor: the
+    /// default) or `transmitted` (as a real sensor: the foot's weight and inertia too; the
+    /// estimator then removes the foot's weight).
+    #[serde(default)]
+    pub force_torque_model: ForceTorqueModel,
     /// Sensor layout; absent: TALOS' sensors for the default robot, none for another.
     pub sensors: Option<SensorsSection>,
     #[serde(default)]

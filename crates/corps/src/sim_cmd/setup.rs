@@ -162,16 +162,21 @@ fn sensor_layout(
     scenario: &Scenario,
     default_robot: bool,
 ) -> (SensorLayout, Vec<(String, String)>) {
+    let model = scenario.force_torque_model;
     match &scenario.sensors {
         Some(s) => (
             SensorLayout {
                 force_torque: s.force_torque.clone(),
+                force_torque_model: model,
                 imu: s.imu.clone(),
             },
             s.feet.clone(),
         ),
         None if default_robot => (
-            SensorLayout::default(),
+            SensorLayout {
+                force_torque_model: model,
+                ..SensorLayout::default()
+            },
             vec![
                 ("left".into(), "left_ankle".into()),
                 ("right".into(), "right_ankle".into()),
@@ -180,6 +185,7 @@ fn sensor_layout(
         None => (
             SensorLayout {
                 force_torque: vec![],
+                force_torque_model: model,
                 imu: None,
             },
             vec![],
