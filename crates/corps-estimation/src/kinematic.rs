@@ -10,7 +10,9 @@
 //!    F/T reading loses that foot's weight (the subtree's mass and centre of mass from the
 //!    model at the last estimate, gravity in the sole's last estimated orientation); the
 //!    foot's inertial forces stay in it, as on the robot;
-//!    a foot is in contact above `contact_on` of normal force (until it drops below
+//!    the wrench then goes through a second-order Butterworth low-pass filter when
+//!    `ft_lowpass` is set (seed 002 §4.12: Wn = 0.4); a foot is in contact above `contact_on`
+//!    of normal force (until it drops below
 //!    `contact_off`); once it carries `settle_share` of the feet's load it settles and is
 //!    anchored where the estimate puts it; a landing foot that carries less (it may still
 //!    slide or bounce) follows the estimate of the settled feet;
@@ -24,6 +26,7 @@
 //!    a stiff contact, and that motion, which odometry cannot see, reaches the velocity
 //!    above 1/T only through the IMU.
 
+use crate::lowpass::Butterworth2;
 use crate::soles::{sensor_to_sole, zmp_of_feet};
 use crate::{EstimatedState, EstimationError, Estimator, FootEstimate, Readings};
 use corps_model::spatial::{rotation, Force, Se3};
@@ -67,6 +70,11 @@ pub struct EstimatorSettings {
     /// The foot sensors read the weight of the foot below them (real sensors; a simulated
     /// contact sensor does not): remove it from each reading.
     pub calibrate_foot_weight: bool,
+    /// Cutoff of the second-order Butterworth low-pass filter on each foot's wrench, as a
+    /// fraction of the Nyquist frequency of the update rate; 0 (the default): none. Seed 002
+    /// §4.12 filters at 0.4; on corps' IK stairs walk that delay in the contact detection
+    /// makes TALOS fall (RESULTS.md), so it is an option, not the default.
+    pub ft_lowpass: f64,
 }
 
 impl Default for EstimatorSettings {
@@ -81,6 +89,7 @@ impl Default for EstimatorSettings {
             velocity_fusion_time: 0.02,
             settle_share: 0.25,
             calibrate_foot_weight: false,
+            ft_lowpass: 0.0,
         }
     }
 }
@@ -110,6 +119,12 @@ impl EstimatorSettings {
         if self.gravity.iter().any(|g| !g.is_finite()) {
             return Err(EstimationError::Setup("gravity must be finite".into()));
         }
+        if !(0.0..1.0).contains(&self.ft_lowpass) {
+            return Err(EstimationError::Setup(format!(
+                "ft_lowpass must be in [0, 1) of the Nyquist frequency (0: no filter), got {}",
+                self.ft_lowpass
+            )));
+        }
         Ok(())
     }
 }
@@ -131,6 +146,8 @@ struct Foot {
     sensor: usize,
     /// Joint of the body carrying the sensor: its subtree hangs below the sensor.
     sensor_joint: usize,
+    /// Low-pass filter of the sole-frame wrench (None: unfiltered).
+    lowpass: Option<Butterworth2<6>>,
     sole_frame: usize,
     sole_m_sensor: Se3,
     /// Where the sole stays while the foot is settled (world).
@@ -196,6 +213,8 @@ impl KinematicEstimator {
                 Ok(Foot {
                     sensor: f.sensor,
                     sensor_joint: sensor.parent_joint.unwrap_or(0),
+                    lowpass: (settings.ft_lowpass > 0.0)
+                        .then(|| Butterworth2::new(settings.ft_lowpass)),
                     sole_frame: f.sole_frame,
                     sole_m_sensor: sole.placement.inverse() * sensor.placement,
                     anchor: None,
@@ -290,7 +309,7 @@ impl KinematicEstimator {
 
     /// Each foot's wrench in its sole frame and its contact state, from the F/T readings.
     fn read_feet(&mut self, r: &Readings) -> Result<(), EstimationError> {
-        for (foot, estimate) in self.feet.iter().zip(self.state.feet.iter_mut()) {
+        for (foot, estimate) in self.feet.iter_mut().zip(self.state.feet.iter_mut()) {
             let reading = r
                 .force_torque
                 .get(foot.sensor)
@@ -308,6 +327,9 @@ impl KinematicEstimator {
                     &estimate.placement,
                     &self.settings.gravity,
                 );
+            }
+            if let Some(f) = &mut foot.lowpass {
+                estimate.wrench = f.filter(&estimate.wrench);
             }
             let fz = estimate.wrench[2];
             estimate.in_contact = if estimate.in_contact {
@@ -430,6 +452,9 @@ impl Estimator for KinematicEstimator {
         for foot in &mut self.feet {
             foot.anchor = None;
             foot.settled = false;
+            if let Some(f) = &mut foot.lowpass {
+                f.reset();
+            }
         }
         self.last_time = None;
         self.finish()

@@ -25,6 +25,7 @@
 //! ```
 
 mod kinematic;
+pub mod lowpass;
 mod readings;
 mod soles;
 

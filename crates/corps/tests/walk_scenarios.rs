@@ -7,15 +7,21 @@ use corps::run::{run_file, Metrics, RunOptions};
 use corps_loop::verdict::Verdict;
 use std::path::PathBuf;
 
-fn walk(name: &str) -> Metrics {
+/// Runs `scenarios/walk/{name}.toml` with `options` and prints its metrics.
+fn run_walk(name: &str, options: RunOptions) -> Metrics {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../../scenarios/walk")
         .join(format!("{name}.toml"));
     let out = tempfile::tempdir().unwrap();
-    let m = run_file(&path, Some(out.path()), None, RunOptions::quiet())
+    let m = run_file(&path, Some(out.path()), None, options)
         .unwrap()
         .metrics;
     println!("{m}");
+    m
+}
+
+fn walk(name: &str) -> Metrics {
+    let m = run_walk(name, RunOptions::quiet());
     assert_eq!(m.verdict.verdict, Verdict::Completed, "{}", m.verdict);
     assert!(
         m.min_base_height > 0.6,
@@ -308,21 +314,13 @@ fn ik_position_walks_on_gazebo_pid_servos() {
 /// When it no longer falls, this test fails: move it to `walk` with its shortfalls.
 #[test]
 fn tsid_position_on_gazebo_pid_servos_falls_with_the_estimator_only() {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../scenarios/walk/tsid_position_20cm_gazebo_pid.toml");
-    let out = tempfile::tempdir().unwrap();
-    let m = run_file(&path, Some(out.path()), None, RunOptions::quiet())
-        .unwrap()
-        .metrics;
-    println!("{m}");
+    let name = "tsid_position_20cm_gazebo_pid";
+    let m = run_walk(name, RunOptions::quiet());
     assert_eq!(m.verdict.verdict, Verdict::Fell, "{}", m.verdict);
     let truth = RunOptions {
         estimator: Some(corps::run::EstimatorKind::GroundTruth),
         ..RunOptions::quiet()
     };
-    let m = run_file(&path, Some(out.path()), None, truth)
-        .unwrap()
-        .metrics;
-    println!("{m}");
+    let m = run_walk(name, truth);
     assert_eq!(m.verdict.verdict, Verdict::Completed, "{}", m.verdict);
 }

@@ -42,6 +42,7 @@ pub struct EstimatorSection {
     pub contact_off: f64,
     pub velocity_fusion_time: f64,
     pub settle_share: f64,
+    pub ft_lowpass: f64,
 }
 
 impl Default for EstimatorSection {
@@ -53,6 +54,7 @@ impl Default for EstimatorSection {
             contact_off: d.contact_off,
             velocity_fusion_time: d.velocity_fusion_time,
             settle_share: d.settle_share,
+            ft_lowpass: d.ft_lowpass,
         }
     }
 }
@@ -113,6 +115,11 @@ impl RunEstimator {
             velocity_fusion_time: section.velocity_fusion_time,
             settle_share: section.settle_share,
             calibrate_foot_weight: foot_weight,
+            // Ground truth is exact: no filter's lag on its wrenches.
+            ft_lowpass: match section.kind {
+                EstimatorKind::LegOdometry => section.ft_lowpass,
+                EstimatorKind::GroundTruth => 0.0,
+            },
         };
         Ok(Self {
             kind: section.kind,
