@@ -222,15 +222,19 @@ fn degenerate_vertex_qp(seed: u64, n: usize, flat: bool) -> (QpProblem, DVector<
     (p, x0)
 }
 
-fn check_degenerate_vertex(seed: u64, n: usize, flat: bool) -> Result<(), TestCaseError> {
-    let (p, x0) = degenerate_vertex_qp(seed, n, flat);
+fn check_degenerate_vertex(seed: u64, n: usize) -> Result<(), TestCaseError> {
+    let (p, x0) = degenerate_vertex_qp(seed, n, false);
     let mut s = common::cold_solver(&p);
     let sol = s
         .solve(&p)
         .map_err(|e| TestCaseError::fail(format!("corps-qp: {e}")))?;
     let dx0 = (&sol.x - &x0).amax();
     prop_assert!(dx0 <= 1e-6, "|x − x0| = {dx0:e}");
+    // The KKT residuals scaled by the problem's own magnitudes (ProxQP's and OSQP's
+    // criterion) ≤ 1e-9; with a well-conditioned H also ≤ 1e-8 unscaled.
     let r = kkt(&p, sol);
+    let scaled = common::kkt_scaled(&p, sol);
+    prop_assert!(scaled <= 1e-9, "scaled KKT residual {scaled:e} ({r:?})");
     prop_assert!(r.max() <= 1e-8, "KKT residuals {r:?}");
     match clarabel_solve(&p) {
         Reference::Solved { x, objective } => {
@@ -259,13 +263,63 @@ proptest! {
     /// residuals are ≤ 1e-8.
     #[test]
     fn degenerate_vertices_match_clarabel(seed in any::<u64>(), n in 4usize..30) {
-        check_degenerate_vertex(seed, n, false)?;
+        check_degenerate_vertex(seed, n)?;
     }
 
-    /// The same with H = BᵀB + 1e-9 I (rank-1 to 3 task plus the hierarchy's regularization).
-    #[test]
-    #[ignore = "known limitation: with cond(H) ~ 1e9 at a degenerate vertex the solver still reports some of these feasible QPs infeasible (a one-off count over 400 seeds: 72 failed, 96 before the equalities-as-rows fallback); HierarchicalQp avoids it by holding upper levels within the primal tolerance"]
-    fn degenerate_vertices_with_flat_hessian_match_clarabel(seed in any::<u64>(), n in 4usize..30) {
-        check_degenerate_vertex(seed, n, true)?;
+}
+
+/// The same with H = BᵀB + 1e-9 I (rank-1 to 3 task plus the hierarchy's regularization),
+/// 1,000 seeded problems. Before the solver's proximal fallback
+/// (`ActiveSetSolver::solve_proximal`) about one in five of these feasible problems was
+/// reported infeasible (76 of 400). Now every one is solved with Clarabel's objective to 1e-6
+/// (relative). Two bounds still fail in a few problems, counted here as known shortfalls:
+/// the KKT residuals ≤ 1e-9 scaled (4 of 1000, worst 2.2e-7 when measured), and x
+/// at the constructed optimum x0 to 1e-6 (2 of 1000, worst 1.0e-4: along directions where H
+/// is 1e-9, the objective cannot tell them apart). Fewer fails nothing; more fails.
+#[test]
+fn degenerate_vertices_with_flat_hessian_are_solved() {
+    const KNOWN_OVER: usize = 4;
+    const KNOWN_FAR: usize = 2;
+    let mut rng = ChaCha8Rng::seed_from_u64(0xf1a7);
+    let (mut over, mut worst, mut far, mut worst_dx) = (0, 0.0f64, 0, 0.0f64);
+    for case in 0..1000 {
+        let seed: u64 = rng.gen();
+        let n = rng.gen_range(4..30);
+        let (p, x0) = degenerate_vertex_qp(seed, n, true);
+        let mut s = common::cold_solver(&p);
+        let sol = s
+            .solve(&p)
+            .unwrap_or_else(|e| panic!("case {case} (seed {seed}, n {n}): {e}"));
+        let dx0 = (&sol.x - &x0).amax();
+        worst_dx = worst_dx.max(dx0);
+        if dx0 > 1e-6 {
+            far += 1;
+        }
+        let scaled = common::kkt_scaled(&p, sol);
+        worst = worst.max(scaled);
+        if scaled > 1e-9 {
+            over += 1;
+        }
+        match clarabel_solve(&p) {
+            Reference::Solved { objective, .. } => {
+                let dobj = (sol.objective - objective).abs() / (1.0 + objective.abs());
+                assert!(
+                    dobj <= 1e-6,
+                    "case {case}: objective {} vs {objective}",
+                    sol.objective
+                );
+            }
+            other => panic!("case {case}: Clarabel: {other:?}"),
+        }
     }
+    println!("scaled KKT residual over 1e-9 in {over} of 1000 problems, worst {worst:e}");
+    println!("|x − x0| over 1e-6 in {far} of 1000 problems, worst {worst_dx:e}");
+    assert!(
+        over <= KNOWN_OVER,
+        "{over} problems over the scaled KKT bound of 1e-9 (known: {KNOWN_OVER}), worst {worst:e}"
+    );
+    assert!(
+        far <= KNOWN_FAR,
+        "{far} problems farther than 1e-6 from x0 (known: {KNOWN_FAR}), worst {worst_dx:e}"
+    );
 }

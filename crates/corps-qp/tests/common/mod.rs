@@ -143,6 +143,45 @@ pub fn kkt(p: &QpProblem, s: &Solution) -> Kkt {
     r
 }
 
+/// The largest KKT residual scaled as ProxQP and OSQP scale theirs: stationarity over
+/// `1 + max(‖Hx‖∞, ‖g‖∞, ‖Aᵀy‖∞, ‖Cᵀz‖∞, ‖z_box‖∞)`, the primal residual over
+/// `1 + max(‖Ax‖∞, ‖b‖∞, ‖Cx‖∞)`, complementarity (a multiplier times a constraint's slack)
+/// over the product of the two.
+pub fn kkt_scaled(p: &QpProblem, s: &Solution) -> f64 {
+    let r = kkt(p, s);
+    let x = &s.x;
+    let dual_scale = 1.0
+        + [
+            (&p.h * x).amax(),
+            p.g.amax(),
+            (p.a.transpose() * &s.y_eq).amax(),
+            (p.c.transpose() * &s.z_in).amax(),
+            s.z_box.amax(),
+        ]
+        .into_iter()
+        .fold(0.0, f64::max);
+    let primal_scale = 1.0
+        + [
+            if p.a.nrows() > 0 {
+                (&p.a * x).amax()
+            } else {
+                0.0
+            },
+            if p.b.is_empty() { 0.0 } else { p.b.amax() },
+            if p.c.nrows() > 0 {
+                (&p.c * x).amax()
+            } else {
+                0.0
+            },
+        ]
+        .into_iter()
+        .fold(0.0, f64::max);
+    (r.stationarity / dual_scale)
+        .max(r.primal / primal_scale)
+        .max(r.dual / dual_scale)
+        .max(r.complementarity / (primal_scale * dual_scale))
+}
+
 /// Outcome of the Clarabel reference solve.
 #[derive(Debug, Clone)]
 pub enum Reference {
