@@ -1,7 +1,7 @@
 //! Test helpers shared by the corps crates: a counting global allocator (real-time
 //! discipline: "no heap allocation once the workspaces exist") and a relative closeness check.
 //!
-//! ```ignore
+//! ```
 //! #[global_allocator]
 //! static GLOBAL: corps_testkit::CountingAllocator = corps_testkit::CountingAllocator;
 //! let n = corps_testkit::allocations_during(|| { /* a control tick */ });
