@@ -28,8 +28,11 @@ struct Entry {
 
 /// Proximal weight of [`ActiveSetSolver::solve_proximal`], relative to H's largest diagonal.
 const PROX_SCALE: f64 = 1e-3;
-/// Most proximal solves before the fallback gives its last answer.
+/// Most proximal solves before the fallback gives up (and the proof stands).
 const PROX_ITERS: usize = 50;
+/// The fallback's answer must meet the original problem's optimality conditions to this
+/// (relative to the terms' magnitudes), or the proof it was checking stands.
+const PROX_ACCEPT: f64 = 1e-6;
 
 /// Dense Goldfarb–Idnani dual active-set QP solver (see the crate docs for the method, the
 /// warm start and the caches). Create it once per problem size; `solve` does not allocate.
@@ -420,9 +423,12 @@ impl ActiveSetSolver {
     /// 1 + λ_max/ρ, factored once) and gradient g − ρx_k, each solve warm-started from the
     /// last: the iterates converge to the optimum of the original problem (Rockafellar 1976),
     /// in a few steps once the active set settles. A proof from these well-conditioned solves
-    /// stands. ρ = [`PROX_SCALE`] · max Hᵢᵢ; at most [`PROX_ITERS`] solves, stopping when the step is
-    /// below 1e-12 (relative). The result's multipliers are the last solve's (their KKT
-    /// residual for the original problem is ρ‖x_{k+1} − x_k‖); the objective is the original's.
+    /// stands. ρ = [`PROX_SCALE`] · max Hᵢᵢ; at most [`PROX_ITERS`] solves, stopping when the
+    /// step is below 1e-12 (relative). The result's multipliers are the last solve's (their
+    /// KKT residual for the original problem is ρ‖x_{k+1} − x_k‖); the objective is the
+    /// original's. An answer that did not converge or misses the original problem's
+    /// optimality conditions by more than [`PROX_ACCEPT`] is not returned: the solve then
+    /// ends `Infeasible`, as it would have without the fallback.
     fn solve_proximal<const F: bool>(&mut self) -> Result<(), QpError> {
         let n = self.n;
         let max_diag = (0..n).map(|i| self.h[i * n + i]).fold(0.0f64, f64::max);
@@ -450,7 +456,7 @@ impl ActiveSetSolver {
         };
         self.h_ok = result.is_ok();
         self.j0_ok = false;
-        let mut steps = 0;
+        let (mut steps, mut converged) = (0, false);
         while result.is_ok() && steps < PROX_ITERS {
             steps += 1;
             for i in 0..n {
@@ -468,6 +474,7 @@ impl ActiveSetSolver {
                 self.prox_x[i] = x;
             }
             if step <= 1e-12 * (1.0 + size) {
+                converged = true;
                 break;
             }
         }
@@ -481,6 +488,10 @@ impl ActiveSetSolver {
         self.final_ok = false;
         self.prev.clear();
         if result.is_ok() {
+            if !converged || !self.meets_kkt(PROX_ACCEPT) {
+                // No better answer than the proof the fallback was called to check.
+                return Err(QpError::Infeasible);
+            }
             let x = &self.sol.x;
             let mut objective = 0.0;
             for j in 0..n {
@@ -490,6 +501,52 @@ impl ActiveSetSolver {
             self.sol.objective = objective;
         }
         result
+    }
+
+    /// Whether the solution meets the original problem's optimality conditions to `tol`,
+    /// relative to the magnitude of the terms: stationarity `Hx + g + Aᵀy + Cᵀz + z_x`
+    /// and the primal residuals of every row and bound. Allocation-free, O(n (n + m)).
+    fn meets_kkt(&self, tol: f64) -> bool {
+        let (n, ne, ni) = (self.n, self.ne, self.ni);
+        let sol = &self.sol;
+        let x = &sol.x;
+        let mut worst_dual = 0.0f64;
+        let mut scale_dual = 1.0f64;
+        for j in 0..n {
+            let mut terms = [0.0f64; 4];
+            for i in 0..n {
+                terms[0] += self.h[j * n + i] * x[i];
+            }
+            for k in 0..ne {
+                terms[1] += self.a[k + j * ne] * sol.y_eq[k];
+            }
+            for k in 0..ni {
+                terms[2] += self.c[k + j * ni] * sol.z_in[k];
+            }
+            terms[3] = sol.z_box[j];
+            let st = terms.iter().sum::<f64>() + self.g[j];
+            worst_dual = worst_dual.max(st.abs());
+            scale_dual = terms
+                .iter()
+                .fold(scale_dual, |m, t| m.max(1.0 + t.abs()))
+                .max(1.0 + self.g[j].abs());
+        }
+        let mut worst_primal = 0.0f64;
+        let mut scale_primal = 1.0f64;
+        for k in 0..ne {
+            let ax: f64 = (0..n).map(|j| self.a[k + j * ne] * x[j]).sum();
+            worst_primal = worst_primal.max((ax - self.b[k]).abs());
+            scale_primal = scale_primal.max(1.0 + ax.abs());
+        }
+        for k in 0..ni {
+            let cx: f64 = (0..n).map(|j| self.c[k + j * ni] * x[j]).sum();
+            worst_primal = worst_primal.max(self.lo[k] - cx).max(cx - self.hi[k]);
+            scale_primal = scale_primal.max(1.0 + cx.abs());
+        }
+        for j in 0..n {
+            worst_primal = worst_primal.max(self.lx[j] - x[j]).max(x[j] - self.ux[j]);
+        }
+        worst_dual <= tol * scale_dual && worst_primal <= tol * scale_primal
     }
 
     /// The method of the crate docs: equality phase (range-space QR, fast path), warm start
