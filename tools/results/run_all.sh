@@ -65,16 +65,17 @@ out=$(mktemp -d)
     fi
   done
   echo
+  # The names of the figures short of the thesis in a metrics file (or `-`, stdin).
+  figure() { sed -n "s/^  short of the thesis: \(.*\) [-0-9.]*\( mm\)\{0,1\} (thesis .*/\1/p" "$1" | sort; }
   echo "Further, on TALOS' sensor noise only (the \`talos_hardware.toml\` runs):"
   echo
   for f in scenarios/walk/*.toml scenarios/control/*.toml; do
     name=$(basename "$f" .toml)
     [ -f "$out/$name.noise/metrics.txt" ] || continue
     # The figures short with the noise and not without it (matched by name, not value).
-    figure() { sed -n "s/^  short of the thesis: \(.*\) [-0-9.]*\( mm\)\{0,1\} (thesis .*/\1/p" "$1" | sort; }
     figure "$out/$name/metrics.txt" > "$out/known" || true
     grep "short of the thesis" "$out/$name.noise/metrics.txt" | while IFS= read -r line; do
-      name_of=$(printf '%s\n' "$line" | sed -n "s/^  short of the thesis: \(.*\) [-0-9.]*\( mm\)\{0,1\} (thesis .*/\1/p")
+      name_of=$(printf '%s\n' "$line" | figure -)
       grep -qxF "$name_of" "$out/known" || printf '%s\n' "$line" | sed "s/^  short of the thesis: /- $name: /"
     done || true
     if ! grep -qE "^  verdict: (fell|diverged|controller_failed)" "$out/$name/metrics.txt"; then

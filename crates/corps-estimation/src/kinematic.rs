@@ -374,10 +374,7 @@ fn weight_below(
 ) -> Vector6<f64> {
     let g = Vector3::from(*gravity);
     let mut f = Force::zero();
-    for k in joint..model.njoints() {
-        if !model.supports(joint, k) {
-            continue;
-        }
+    for k in model.subtree_joints(joint) {
         let inertia = &model.inertias[k];
         let c = data.o_m_i[k].act_point(&inertia.lever);
         let w = g * inertia.mass;

@@ -145,6 +145,18 @@ impl Model {
         false
     }
 
+    /// The joints of `joint`'s subtree, itself first: a contiguous range, since the subtree's
+    /// velocity entries are the contiguous `idx_v .. idx_v + subtree_nv` (the layout CRBA's
+    /// block structure relies on) and joints are numbered in the order of their entries.
+    pub fn subtree_joints(&self, joint: usize) -> std::ops::Range<usize> {
+        let nv = self.subtree_nv[joint];
+        let end = match nv {
+            0 => joint + 1,
+            _ => self.dof_joint[self.joints[joint].idx_v + nv - 1] + 1,
+        };
+        joint..end
+    }
+
     /// Checks a configuration vector: size nq, all finite.
     pub fn check_configuration(&self, q: &[f64]) -> Result<()> {
         check_vector("configuration q", q, self.nq)

@@ -724,3 +724,16 @@ fn sparse_factorization_solves_a_70_link_chain() {
     let residual = (&m * &x - &b).norm() / b.norm();
     assert!(residual < 1e-9, "relative residual {residual:.3e}");
 }
+
+#[test]
+fn a_subtree_is_the_range_of_joints_its_root_supports() {
+    for (name, model) in robots() {
+        for j in 0..model.njoints() {
+            let supported: Vec<usize> = (0..model.njoints())
+                .filter(|&k| model.supports(j, k))
+                .collect();
+            let range: Vec<usize> = model.subtree_joints(j).collect();
+            assert_eq!(range, supported, "{name}, joint {j}");
+        }
+    }
+}

@@ -358,7 +358,6 @@ impl ActiveSetSolver {
                 return Err(e);
             }
         };
-        let n = self.n;
         let warm = self.settings.warm_start;
         if !warm {
             self.h_ok = false;
@@ -367,22 +366,7 @@ impl ActiveSetSolver {
             self.prev.clear();
         }
         if h_changed || !self.h_ok {
-            self.eq_ok = false;
-            self.final_ok = false;
-            self.chol.copy_from_slice(&self.h);
-            cholesky::diagonal_blocks(&self.h, n, &mut self.block_start, &mut self.block_end);
-            if let Err(column) = cholesky::factor_in_place::<F>(
-                &mut self.chol,
-                n,
-                &mut self.lt,
-                &self.block_start,
-                &self.block_end,
-            ) {
-                self.h_ok = false;
-                return Err(QpError::NotPositiveDefinite { column });
-            }
-            self.h_ok = true;
-            self.j0_ok = false;
+            self.factor_h::<F>()?;
         }
         if a_changed {
             self.eq_ok = false;
@@ -395,6 +379,27 @@ impl ActiveSetSolver {
             Err(QpError::Infeasible) => self.solve_proximal::<F>(),
             r => r,
         }
+    }
+
+    /// Factors the copy of H (`chol`, `lt`, its diagonal blocks) and forgets what was built
+    /// on the previous factor.
+    #[inline(always)]
+    fn factor_h<const F: bool>(&mut self) -> Result<(), QpError> {
+        let n = self.n;
+        self.eq_ok = false;
+        self.final_ok = false;
+        self.j0_ok = false;
+        self.chol.copy_from_slice(&self.h);
+        cholesky::diagonal_blocks(&self.h, n, &mut self.block_start, &mut self.block_end);
+        let factored = cholesky::factor_in_place::<F>(
+            &mut self.chol,
+            n,
+            &mut self.lt,
+            &self.block_start,
+            &self.block_end,
+        );
+        self.h_ok = factored.is_ok();
+        factored.map_err(|column| QpError::NotPositiveDefinite { column })
     }
 
     /// Equality-first, then, on a proof of infeasibility, with the equalities as rows.
@@ -440,22 +445,7 @@ impl ActiveSetSolver {
             self.prox_x[i] = 0.0;
         }
         self.prev.clear();
-        self.final_ok = false;
-        self.eq_ok = false;
-        self.chol.copy_from_slice(&self.h);
-        cholesky::diagonal_blocks(&self.h, n, &mut self.block_start, &mut self.block_end);
-        let mut result = match cholesky::factor_in_place::<F>(
-            &mut self.chol,
-            n,
-            &mut self.lt,
-            &self.block_start,
-            &self.block_end,
-        ) {
-            Err(column) => Err(QpError::NotPositiveDefinite { column }),
-            Ok(()) => Ok(()),
-        };
-        self.h_ok = result.is_ok();
-        self.j0_ok = false;
+        let mut result = self.factor_h::<F>();
         let (mut steps, mut converged) = (0, false);
         while result.is_ok() && steps < PROX_ITERS {
             steps += 1;

@@ -115,14 +115,11 @@ fn transmitted_wrench(
     joint: usize,
 ) -> Force {
     let mut f = Force::zero();
-    for (k, on_body) in contact.iter().enumerate().skip(joint) {
-        if !model.supports(joint, k) {
-            continue;
-        }
+    for k in model.subtree_joints(joint) {
         let inertia = model.inertias[k].transformed(&data.o_m_i[k]);
         let momentum = inertia.mul_motion(&data.ov[k]);
         let inertial = inertia.mul_motion(&data.oa[k]) + data.ov[k].cross_force(&momentum);
-        f += *on_body - inertial;
+        f += contact[k] - inertial;
     }
     f
 }

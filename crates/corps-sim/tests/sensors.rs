@@ -69,8 +69,8 @@ fn standing_robot_sensors_read_gravity_and_weight() {
         let j = model.frames[model.frame_id(frame).unwrap()]
             .parent_joint
             .unwrap();
-        (j..model.njoints())
-            .filter(|&k| model.supports(j, k))
+        model
+            .subtree_joints(j)
             .map(|k| model.inertias[k].mass)
             .sum()
     };

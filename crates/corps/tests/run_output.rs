@@ -39,6 +39,20 @@ fn spawn_run(args: &[&str]) -> Child {
         .expect("starts")
 }
 
+/// Sends SIGINT to `run` and waits: the command exits with status 130. Its stderr.
+#[cfg(unix)]
+fn interrupt(run: Child) -> String {
+    let sent = Command::new("kill")
+        .args(["-INT", &run.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+    let o = run.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert_eq!(o.status.code(), Some(130), "{stderr}");
+    stderr
+}
+
 /// `corps run SCENARIO -o OUT --duration 0.1`: (success, stderr).
 fn short_run(scenario: &Path, out: &Path) -> (bool, String) {
     corps_run(&[
@@ -172,14 +186,7 @@ fn ctrl_c_stops_the_run_with_a_whole_log_marked_interrupted_and_status_130() {
         .spawn()
         .expect("starts");
     wait_for_rows(&out.join("log.csv.partial"), 1.0);
-    let sent = Command::new("kill")
-        .args(["-INT", &run.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(sent.success());
-    let o = run.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(130), "{stderr}");
+    let stderr = interrupt(run);
     let last = stderr.lines().last().unwrap_or_default();
     assert!(last.starts_with("corps: interrupted at t = "), "{stderr}");
     // The log is a finished one, of whole rows, ending where the metrics say.
@@ -256,13 +263,6 @@ fn ctrl_c_while_the_robot_settles_exits_130_too() {
         .spawn()
         .expect("starts");
     std::thread::sleep(Duration::from_millis(800));
-    let sent = Command::new("kill")
-        .args(["-INT", &run.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(sent.success());
-    let o = run.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(130), "{stderr}");
+    let stderr = interrupt(run);
     assert!(stderr.contains("interrupted at t = 0.000 s"), "{stderr}");
 }

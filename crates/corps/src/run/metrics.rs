@@ -192,7 +192,46 @@ pub struct Comparison {
     pub worse: bool,
 }
 
+/// The rows of an error table: the row's name and its axes.
+type ErrorTable<'a> = Vec<(String, Vec<(&'static str, &'a Stat)>)>;
+
+/// The CoM, ZMP and feet (label, errors) rows of one table.
+fn error_table<'a>(
+    com: &'a Axes<3>,
+    zmp: &'a Axes<2>,
+    feet: impl Iterator<Item = (&'a str, &'a Axes<3>)>,
+) -> ErrorTable<'a> {
+    let mut rows = vec![
+        (
+            "CoM".to_string(),
+            vec![("x", &com[0]), ("y", &com[1]), ("z", &com[2])],
+        ),
+        ("ZMP".to_string(), vec![("x", &zmp[0]), ("y", &zmp[1])]),
+    ];
+    for (label, e) in feet {
+        let axes = vec![("x", &e[0]), ("y", &e[1]), ("z", &e[2])];
+        rows.push((format!("{label} foot"), axes));
+    }
+    rows
+}
+
 impl Metrics {
+    /// The tracking-error tables, each with the suffix its figures take: the whole run's
+    /// (`""`), then the walk proper's (`" while walking"`) when there is one.
+    fn error_tables(&self) -> Vec<(&'static str, ErrorTable<'_>)> {
+        let labels = self.feet.iter().map(|f| f.label.as_str());
+        let whole = labels.clone().zip(self.feet.iter().map(|f| &f.error));
+        let mut tables = vec![("", error_table(&self.com_error, &self.zmp_error, whole))];
+        if let Some(w) = &self.while_walking {
+            let feet = labels.zip(w.feet_error.iter());
+            tables.push((
+                " while walking",
+                error_table(&w.com_error, &w.zmp_error, feet),
+            ));
+        }
+        tables
+    }
+
     /// Every figure the scenario's `[thesis]` gives, beside corps' own: the average and peak
     /// of each error row (the standard deviation describes a spread, not a bound), and the
     /// costs of transport. Lower is better for all of them.
@@ -209,35 +248,14 @@ impl Metrics {
                 worse: corps > thesis,
             })
         };
-        let mut errors: Vec<(&str, &str, &Stat)> = vec![
-            ("CoM", "x", &self.com_error[0]),
-            ("CoM", "y", &self.com_error[1]),
-            ("ZMP", "x", &self.zmp_error[0]),
-            ("ZMP", "y", &self.zmp_error[1]),
-        ];
-        for (foot, label) in self.feet.iter().zip(["left foot", "right foot"]) {
-            errors.push((label, "x", &foot.error[0]));
-            errors.push((label, "y", &foot.error[1]));
-        }
-        if let Some(w) = &self.while_walking {
-            let walking: Vec<(&str, &str, &Stat)> = vec![
-                ("CoM", "x", &w.com_error[0]),
-                ("CoM", "y", &w.com_error[1]),
-                ("ZMP", "x", &w.zmp_error[0]),
-                ("ZMP", "y", &w.zmp_error[1]),
-                ("left foot", "x", &w.feet_error[0][0]),
-                ("left foot", "y", &w.feet_error[0][1]),
-                ("right foot", "x", &w.feet_error[1][0]),
-                ("right foot", "y", &w.feet_error[1][1]),
-            ];
-            errors.extend(walking);
-        }
-        let whole_rows = 4 + 2 * self.feet.len();
-        for (k, (name, axis, stat)) in errors.into_iter().enumerate() {
-            let when = if k < whole_rows { "" } else { " while walking" };
-            if let Some([avg, _, peak]) = t.get(name, axis) {
-                add(format!("{name} {axis} average{when}"), stat.avg, avg);
-                add(format!("{name} {axis} peak{when}"), stat.peak, peak);
+        for (when, table) in self.error_tables() {
+            for (name, axes) in table {
+                for (axis, stat) in axes {
+                    if let Some([avg, _, peak]) = t.get(&name, axis) {
+                        add(format!("{name} {axis} average{when}"), stat.avg, avg);
+                        add(format!("{name} {axis} peak{when}"), stat.peak, peak);
+                    }
+                }
             }
         }
         if let Some(w) = &self.walk {
@@ -410,28 +428,16 @@ impl fmt::Display for Metrics {
             Some(t) => writeln!(f, "    thesis: {}", t.source)?,
             None => writeln!(f)?,
         }
-        let c = &self.com_error;
-        row(f, th, "CoM", &[("x", &c[0]), ("y", &c[1]), ("z", &c[2])])?;
-        let z = &self.zmp_error;
-        row(f, th, "ZMP", &[("x", &z[0]), ("y", &z[1])])?;
-        for foot in &self.feet {
-            let e = &foot.error;
-            let name = format!("{} foot", foot.label);
-            row(f, th, &name, &[("x", &e[0]), ("y", &e[1]), ("z", &e[2])])?;
-        }
-        if let Some(w) = &self.while_walking {
-            writeln!(
-                f,
-                "  while walking, t = {:.2}–{:.2} s (first lift-off to last touchdown):",
-                w.start, w.end
-            )?;
-            let c = &w.com_error;
-            row(f, th, "CoM", &[("x", &c[0]), ("y", &c[1]), ("z", &c[2])])?;
-            let z = &w.zmp_error;
-            row(f, th, "ZMP", &[("x", &z[0]), ("y", &z[1])])?;
-            for (e, foot) in w.feet_error.iter().zip(&self.feet) {
-                let name = format!("{} foot", foot.label);
-                row(f, th, &name, &[("x", &e[0]), ("y", &e[1]), ("z", &e[2])])?;
+        for (when, table) in self.error_tables() {
+            if let Some(w) = self.while_walking.as_ref().filter(|_| !when.is_empty()) {
+                writeln!(
+                    f,
+                    "  while walking, t = {:.2}–{:.2} s (first lift-off to last touchdown):",
+                    w.start, w.end
+                )?;
+            }
+            for (name, axes) in table {
+                row(f, th, &name, &axes)?;
             }
         }
         for foot in &self.feet {

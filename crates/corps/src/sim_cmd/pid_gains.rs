@@ -39,10 +39,17 @@ pub fn load(model: &Model, path: &Path) -> Result<ServoGains> {
 pub fn parse(model: &Model, text: &str) -> Result<ServoGains> {
     let file: PidFile =
         toml::from_str(text).map_err(|e| anyhow!("{}", e.message().trim().replace('\n', " ")))?;
+    let first = first_actuated(model);
+    let na = model.nv - first;
+    let mut per_dof: Vec<Option<JointPid>> = vec![None; na];
     for (name, g) in &file.joints {
-        model
+        let id = model
             .joint_id(name)
             .map_err(|_| anyhow!("joints.{name}: the model has no such joint"))?;
+        let joint = &model.joints[id];
+        if joint.idx_v < first {
+            bail!("joints.{name}: not an actuated joint (the floating base has no servo)");
+        }
         for (key, x) in [
             ("p", g.p),
             ("d", g.d),
@@ -54,12 +61,6 @@ pub fn parse(model: &Model, text: &str) -> Result<ServoGains> {
                 bail!("joints.{name}.{key}: must be a finite number ≥ 0, got {x}");
             }
         }
-    }
-    let first = first_actuated(model);
-    let na = model.nv - first;
-    let mut per_dof: Vec<Option<JointPid>> = vec![None; na];
-    for (name, g) in &file.joints {
-        let joint = &model.joints[model.joint_id(name)?];
         for k in joint.idx_v..joint.idx_v + joint.nv() {
             per_dof[k - first] = Some(*g);
         }
@@ -125,6 +126,13 @@ mod tests {
             (
                 format!("[joints]\n{}\n", one.replace("i = 0.0", "k = 0.0")),
                 "unknown field",
+            ),
+            (
+                format!(
+                    "[joints]\n{}\n",
+                    one.replace("leg_left_1_joint", "root_joint")
+                ),
+                "not an actuated joint",
             ),
         ] {
             let e = parse(&model, &text).unwrap_err().to_string();
