@@ -30,7 +30,12 @@ fn ik_kinematic_loop_converges() {
         &model,
         &state,
         DT,
-        &StackFrames::TALOS,
+        // TALOS' sole frames and waist.
+        &StackFrames {
+            left_foot: "leg_left_sole_fix_joint",
+            right_foot: "leg_right_sole_fix_joint",
+            waist: "base_link",
+        },
         &IkGains::default(),
         &q,
     )

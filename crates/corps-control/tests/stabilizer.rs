@@ -45,7 +45,7 @@ impl Floor {
     /// A penalty contact of `kn` N/m per m² over the whole sole (0.2 × 0.12 m):
     /// `k_pitch = kn · w l³/12`, `k_roll = kn · l w³/12`.
     fn penalty(kn: f64) -> Self {
-        let s = Sole::default();
+        let s = Sole::new(0.10, 0.06, 0.107);
         let (l, w) = (2.0 * s.half_length, 2.0 * s.half_width);
         Self {
             pitch: kn * w * l.powi(3) / 12.0,
@@ -162,7 +162,7 @@ impl Sim {
             self.body_clipped += 1;
         }
         self.body_zmp = clipped;
-        let sole = Sole::default();
+        let sole = Sole::new(0.10, 0.06, 0.107);
         let (mut num, mut den) = (Vector2::zeros(), 0.0);
         let shift = self.body_zmp - out.zmp_distributed;
         for i in 0..2 {
@@ -215,7 +215,7 @@ fn constant_com_deflection_is_removed() {
     let d = Vector2::new(0.005, 0.005);
     // Open loop reference: without the stabilizer the CoM sits at c_ref + d.
     let mut open = Sim::new(d, d);
-    let mut st = Stabilizer::new(StabilizerSettings::default()).unwrap();
+    let mut st = Stabilizer::new(talos_settings()).unwrap();
     let mut closed = Sim::new(d, d);
     let mut max_err = 0.0f64;
     for _ in 0..20_000 {
@@ -256,7 +256,7 @@ fn constant_com_deflection_is_removed() {
 
 #[test]
 fn push_recovery_keeps_the_dcm_inside_the_support() {
-    let mut st = Stabilizer::new(StabilizerSettings::default()).unwrap();
+    let mut st = Stabilizer::new(talos_settings()).unwrap();
     let mut sim = Sim::new(Vector2::zeros(), Vector2::zeros());
     let omega = Sim::omega();
     let mut peak = Vector2::zeros();
@@ -356,7 +356,7 @@ impl SweepResult {
 fn ankle_sweep_run(ankle: AnkleAdmittanceSettings, floor: Floor) -> SweepResult {
     let settings = StabilizerSettings {
         ankle,
-        ..Default::default()
+        ..talos_settings()
     };
     let mut st = Stabilizer::new(settings).unwrap();
     let mut sim = Sim::new(Vector2::zeros(), Vector2::zeros());
@@ -504,7 +504,7 @@ fn a_stabilizer_tick_does_not_allocate() {
             gain: 0.01,
             ..Default::default()
         },
-        ..Default::default()
+        ..talos_settings()
     })
     .unwrap();
     let mut sim = Sim::new(Vector2::zeros(), Vector2::new(0.003, -0.002));
@@ -543,10 +543,10 @@ fn a_stabilizer_tick_does_not_allocate() {
 fn non_finite_input_and_bad_settings_are_errors() {
     assert!(Stabilizer::new(StabilizerSettings {
         mass: -1.0,
-        ..Default::default()
+        ..talos_settings()
     })
     .is_err());
-    let mut st = Stabilizer::new(StabilizerSettings::default()).unwrap();
+    let mut st = Stabilizer::new(talos_settings()).unwrap();
     let sim = Sim::new(Vector2::zeros(), Vector2::zeros());
     let mut input = sim.input(ContactPhase::Double);
     input.com.x = f64::NAN;
@@ -564,7 +564,7 @@ fn sway_run(sway_damping: f64, seconds: f64) -> f64 {
     let d = 2.0 * 0.013 * (ks - w2).sqrt();
     let mut st = Stabilizer::new(StabilizerSettings {
         sway_damping,
-        ..Default::default()
+        ..talos_settings()
     })
     .unwrap();
     let f = feet();
@@ -612,7 +612,7 @@ fn sway_damping_stabilizes_the_servo_held_pendulum() {
     // Eq 2.30–2.31 alone (g_d = 0): the 3 mm initial offset grows into the sway.
     let undamped = sway_run(0.0, 4.0);
     // Default g_d = 0.1 s: the offset is gone.
-    let damped = sway_run(StabilizerSettings::default().sway_damping, 10.0);
+    let damped = sway_run(talos_settings().sway_damping, 10.0);
     println!(
         "flexible LIPM, 3 mm start: max |c| over the last second, g_d = 0 after 4 s: {:.2} mm; g_d = 0.1 s after 10 s: {:.4} mm",
         undamped * 1e3,
@@ -620,4 +620,10 @@ fn sway_damping_stabilizes_the_servo_held_pendulum() {
     );
     assert!(undamped > 0.003 * 2f64.sqrt(), "{undamped}");
     assert!(damped < 1e-4, "{damped}");
+}
+
+/// TALOS' stabilizer settings: 90.2722 kg and the 0.20 × 0.12 m sole of seed 002 §2, ankle
+/// 0.107 m above it (talos_data's `leg_*_sole_fix_joint`).
+fn talos_settings() -> StabilizerSettings {
+    StabilizerSettings::new(90.2722, Sole::new(0.10, 0.06, 0.107))
 }

@@ -258,7 +258,7 @@ impl KinematicEstimator {
 
     /// Joint positions and velocities of the readings into the estimate's q and v.
     fn read_joints(&mut self, r: &Readings) -> Result<(), EstimationError> {
-        let na = self.model.nv - 6;
+        let na = self.model.na();
         for (channel, got) in [
             ("joint_positions", r.joint_positions.len()),
             ("joint_velocities", r.joint_velocities.len()),

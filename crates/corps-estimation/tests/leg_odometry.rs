@@ -63,7 +63,7 @@ fn standing_with(noise: SensorNoise, force_torque_model: ForceTorqueModel) -> Be
     .unwrap();
     let layout = SensorLayout {
         force_torque_model,
-        ..SensorLayout::default()
+        ..talos_layout()
     };
     let sensors = Sensors::new(&model, &layout, noise, 7).unwrap();
     Bench {
@@ -291,4 +291,10 @@ fn non_finite_readings_are_refused_and_the_estimate_is_held() {
     assert_eq!(est.state(), &before);
     r.joint_velocities = DVector::zeros(3);
     assert!(est.update(&r).is_err());
+}
+
+/// TALOS' sensors, from its description.
+fn talos_layout() -> SensorLayout {
+    let talos = corps_robot::Robot::built_in("talos").unwrap().unwrap();
+    SensorLayout::of(&talos, corps_sim::ForceTorqueModel::Contact)
 }

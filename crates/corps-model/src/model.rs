@@ -86,6 +86,20 @@ impl Model {
         )
     }
 
+    /// Index of the first actuated velocity: 6 after a free-flyer root, else 0.
+    pub fn first_actuated(&self) -> usize {
+        if self.has_free_flyer() {
+            6
+        } else {
+            0
+        }
+    }
+
+    /// Number of actuated degrees of freedom (`nv` less the free-flyer's 6).
+    pub fn na(&self) -> usize {
+        self.nv - self.first_actuated()
+    }
+
     /// Total mass of the robot.
     pub fn total_mass(&self) -> f64 {
         self.inertias.iter().map(|i| i.mass).sum()

@@ -115,11 +115,7 @@ impl ServoGains {
 
 /// Index of the first actuated velocity entry (6 with a free-flyer, else 0).
 pub fn first_actuated(model: &Model) -> usize {
-    if model.has_free_flyer() {
-        6
-    } else {
-        0
-    }
+    model.first_actuated()
 }
 
 /// Workspace that turns a command into joint torques at a given state.

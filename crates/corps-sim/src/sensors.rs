@@ -75,7 +75,7 @@ pub enum ForceTorqueModel {
 }
 
 /// Where the sensors are: F/T sensor frames (name → frame) and the IMU frame.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SensorLayout {
     /// Named force/torque sensors and the frame each measures in.
@@ -86,18 +86,13 @@ pub struct SensorLayout {
     pub imu: Option<String>,
 }
 
-impl Default for SensorLayout {
-    /// TALOS: ankle sensors at the sole frames, wrist sensors at the F/T links, IMU on the torso.
-    fn default() -> Self {
+impl SensorLayout {
+    /// The sensors a robot's description lists, reading as `force_torque_model` says.
+    pub fn of(robot: &corps_robot::Robot, force_torque_model: ForceTorqueModel) -> Self {
         Self {
-            force_torque: vec![
-                ("left_ankle".into(), "leg_left_sole_fix_joint".into()),
-                ("right_ankle".into(), "leg_right_sole_fix_joint".into()),
-                ("left_wrist".into(), "wrist_left_ft_link".into()),
-                ("right_wrist".into(), "wrist_right_ft_link".into()),
-            ],
-            force_torque_model: ForceTorqueModel::Contact,
-            imu: Some("imu_link".into()),
+            force_torque: robot.force_torque.clone(),
+            force_torque_model,
+            imu: robot.imu.clone(),
         }
     }
 }

@@ -189,7 +189,7 @@ impl Simulator {
         };
         let n = model.njoints();
         let points_len = points.len();
-        Ok(Self {
+        let mut sim = Self {
             data: Data::new(&model),
             actuators: Actuators::new(&model, gains),
             anchors: vec![Anchor::default(); points.len()],
@@ -219,7 +219,12 @@ impl Simulator {
             model,
             settings,
             terrain,
-        })
+        };
+        // `data()` holds the kinematics of the current state from the start, as after a step.
+        let (model, data) = (&*sim.model, &mut sim.data);
+        let (v, a) = (sim.v.as_slice(), sim.acceleration.as_slice());
+        corps_model::forward_kinematics(model, data, q0, v, a)?;
+        Ok(sim)
     }
 
     /// Adds a push on the body of frame `push.frame`.

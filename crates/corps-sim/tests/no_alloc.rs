@@ -37,7 +37,7 @@ fn steps_without_allocating(settings: SimSettings) {
         },
         ..Default::default()
     };
-    let mut sensors = Sensors::new(&model, &SensorLayout::default(), noise, 7).unwrap();
+    let mut sensors = Sensors::new(&model, &talos_layout(), noise, 7).unwrap();
     let cmd = hold(&model, &q);
     sim.step(&cmd).unwrap(); // the first step stores the command
     sensors.update(&sim);
@@ -56,4 +56,10 @@ fn steps_without_allocating(settings: SimSettings) {
         sensors.truth().force_torque[0][2] < -100.0 || sensors.truth().force_torque[0][2] > 100.0,
         "ankle F/T reads the weight"
     );
+}
+
+/// TALOS' sensors, from its description.
+fn talos_layout() -> SensorLayout {
+    let talos = corps_robot::Robot::built_in("talos").unwrap().unwrap();
+    SensorLayout::of(&talos, corps_sim::ForceTorqueModel::Contact)
 }

@@ -18,7 +18,7 @@ fn standing_with(
     let model = sim.model().clone();
     let layout = SensorLayout {
         force_torque_model,
-        ..SensorLayout::default()
+        ..talos_layout()
     };
     let mut sensors = Sensors::new(&model, &layout, noise, seed).unwrap();
     let cmd = hold(&model, &q);
@@ -136,7 +136,7 @@ fn unknown_sensor_frames_are_named_in_the_error() {
     let layout = SensorLayout {
         force_torque: vec![("left".into(), "no_such_frame".into())],
         imu: None,
-        ..SensorLayout::default()
+        ..talos_layout()
     };
     let e = Sensors::new(&model, &layout, SensorNoise::default(), 0)
         .err()
@@ -155,9 +155,15 @@ fn every_noise_channel_is_validated() {
         },
         ..Default::default()
     };
-    let e = Sensors::new(&model, &SensorLayout::default(), noise, 0)
+    let e = Sensors::new(&model, &talos_layout(), noise, 0)
         .err()
         .expect("rejected")
         .to_string();
     assert!(e.contains("noise.base_angular_velocity"), "{e}");
+}
+
+/// TALOS' sensors, from its description.
+fn talos_layout() -> SensorLayout {
+    let talos = corps_robot::Robot::built_in("talos").unwrap().unwrap();
+    SensorLayout::of(&talos, corps_sim::ForceTorqueModel::Contact)
 }

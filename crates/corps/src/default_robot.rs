@@ -1,25 +1,17 @@
-//! The default robots, TALOS (`talos_reduced.urdf`, `talos_reduced_box.urdf` and `talos.srdf`
-//! from example-robot-data, LGPL-3.0; see robots/README.md), embedded so the command works from
-//! any directory.
+//! The default model of `corps model`: TALOS (`talos_reduced.urdf` and `talos.srdf` from
+//! example-robot-data, LGPL-3.0; see robots/README.md), embedded so the command works from any
+//! directory. Runs take their robot from a description (`corps_robot`).
 
 use anyhow::{Context, Result};
 use corps_model::{build_model_from_urdf_file, build_model_from_urdf_str, Model, RootJoint};
 use std::path::Path;
 
 const TALOS_URDF: &str = include_str!("../../../robots/talos_data/robots/talos_reduced.urdf");
-/// TALOS with its feet meshes replaced by boxes (the simulator's contact needs primitives).
-const TALOS_BOX_URDF: &str =
-    include_str!("../../../robots/talos_data/robots/talos_reduced_box.urdf");
 const TALOS_SRDF: &str = include_str!("../../../robots/talos_data/srdf/talos.srdf");
 
 /// Loads `urdf` (or TALOS when None) with an optional SRDF for reference configurations.
 pub fn load_model(urdf: Option<&Path>, srdf: Option<&Path>, fixed_base: bool) -> Result<Model> {
     load(TALOS_URDF, urdf, srdf, fixed_base)
-}
-
-/// Loads `urdf` (or TALOS with box feet when None) with a free-flyer root, for the simulator.
-pub fn load_sim_model(urdf: Option<&Path>, srdf: Option<&Path>) -> Result<Model> {
-    load(TALOS_BOX_URDF, urdf, srdf, false)
 }
 
 fn load(

@@ -9,4 +9,3 @@ pub mod progress;
 pub mod run;
 pub mod sim_cmd;
 pub mod stdout;
-pub mod strict_toml;

@@ -2,6 +2,7 @@
 //! non-zero exit status.
 
 mod model_cmd;
+mod robot_cmd;
 
 use corps::{run, sim_cmd};
 
@@ -25,6 +26,9 @@ enum Command {
     /// Robot models: inspect a URDF, evaluate dynamics at given states.
     #[command(subcommand)]
     Model(model_cmd::ModelCommand),
+    /// Robot descriptions: draft one for a new robot from its URDF.
+    #[command(subcommand)]
+    Robot(robot_cmd::RobotCommand),
     /// Run a simulation scenario (TOML): log every signal to CSV, plot, summarize.
     Sim(sim_cmd::SimArgs),
     /// Run a whole-body controller on the simulated robot (TOML scenario): print the metrics,
@@ -38,6 +42,7 @@ fn main() {
     let result = match cli.command {
         None => run::run_main_job(),
         Some(Command::Model(cmd)) => model_cmd::run(cmd),
+        Some(Command::Robot(cmd)) => robot_cmd::run(cmd),
         Some(Command::Sim(args)) => sim_cmd::run(args),
         Some(Command::Run(args)) => run::run(args),
     };

@@ -197,3 +197,85 @@ fn run_and_sim_reject_each_others_scenarios_and_bad_gains_in_one_line() {
     assert!(stderr.contains("com.kp"), "{stderr}");
     assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
 }
+
+#[test]
+fn robot_init_drafts_a_description_that_runs_and_never_replaces_a_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("humanoid.toml");
+    let urdf = repo("robots/simple_humanoid_description/urdf/simple_humanoid.urdf");
+    let srdf = repo("robots/simple_humanoid_description/srdf/simple_humanoid.srdf");
+    let o = out.to_str().unwrap();
+    let (ok, stdout, stderr) = corps(&["robot", "init", &urdf, &srdf, "-o", o]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("CHECK"), "{stdout}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        text.contains("[[feet]]") && text.contains("# CHECK"),
+        "{text}"
+    );
+    // The draft loads as it is: a short simulation stands on its guessed feet.
+    let run_dir = dir.path().join("run");
+    let (ok, _, stderr) = corps(&[
+        "sim",
+        &repo("scenarios/stand_flat.toml"),
+        "--robot",
+        o,
+        "--duration",
+        "0.2",
+        "-o",
+        run_dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let (ok, _, stderr) = corps(&["robot", "init", &urdf, "-o", o]);
+    assert!(!ok && stderr.contains("already exists"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), text);
+}
+
+#[test]
+fn a_bad_robot_description_is_one_line_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    // TALOS' description beside copies of its model files, its gains files by absolute path.
+    for f in ["robots/talos_reduced_box.urdf", "srdf/talos.srdf"] {
+        let to = dir.path().join(f);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(repo(&format!("robots/talos_data/{f}")), to).unwrap();
+    }
+    let talos = std::fs::read_to_string(repo("robots/talos_data/talos.toml"))
+        .unwrap()
+        .replace("../../config", &repo("config"));
+    let cases = [
+        (
+            "frame = \"leg_left_sole_fix_joint\"",
+            "frame = \"no_sole\"",
+            "feet[0].frame",
+        ),
+        (
+            "left = 0.065, right = 0.065 }\nforce_torque = \"left_ankle\"",
+            "left = 0.0, right = 0.0 }\nforce_torque = \"left_ankle\"",
+            "feet[0].sole: the rectangle has zero area",
+        ),
+        (
+            "ankle = [\"leg_left_5_joint\", \"leg_left_6_joint\"]",
+            "ankle = [\"leg_left_5_joint\", \"no_joint\"]",
+            "feet[0].ankle: no joint named 'no_joint'",
+        ),
+    ];
+    for (k, (from, to, expected)) in cases.iter().enumerate() {
+        assert!(talos.contains(from), "{from}");
+        let path = dir.path().join(format!("bad_{k}.toml"));
+        std::fs::write(&path, talos.replacen(from, to, 1)).unwrap();
+        let out = dir.path().join(format!("out{k}"));
+        let (ok, _, stderr) = corps(&[
+            "run",
+            &repo("scenarios/control/tsid_torque_push_front.toml"),
+            "--robot",
+            path.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert!(!ok, "{to}");
+        assert!(stderr.contains(expected), "{stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+        assert!(!out.exists(), "{} was written", out.display());
+    }
+}

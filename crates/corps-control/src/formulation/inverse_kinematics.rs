@@ -132,15 +132,6 @@ pub struct StackFrames<'a> {
     pub waist: &'a str,
 }
 
-impl StackFrames<'static> {
-    /// TALOS: the sole frames and `base_link` (the waist).
-    pub const TALOS: StackFrames<'static> = StackFrames {
-        left_foot: "leg_left_sole_fix_joint",
-        right_foot: "leg_right_sole_fix_joint",
-        waist: "base_link",
-    };
-}
-
 /// Where one entry's rows sit in the hierarchy.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Slot {

@@ -188,7 +188,7 @@ mod tests {
         k: f64,
         ticks: usize,
     ) -> (AnkleAdmittance, Vec<Vector2<f64>>) {
-        let sole = Sole::default();
+        let sole = Sole::new(0.10, 0.06, 0.107);
         let fz = 450.0;
         // Body loads the foot at CoP (−2 cm, +1 cm); the distribution wants (+1 cm, 0).
         let tau0 = Vector3::new(0.01 * fz, 0.02 * fz, 0.0);
@@ -231,7 +231,7 @@ mod tests {
 
     #[test]
     fn velocity_is_clamped_and_the_offset_leaks_when_unloaded() {
-        let sole = Sole::default();
+        let sole = Sole::new(0.10, 0.06, 0.107);
         let mut a = AnkleAdmittance::new(AnkleAdmittanceSettings {
             gain: 1.0,
             filter_cutoff_hz: f64::INFINITY,

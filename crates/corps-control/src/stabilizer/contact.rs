@@ -84,29 +84,30 @@ pub const RIGHT: usize = 1;
 /// height.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sole {
-    /// Half-length along the sole x [m]. Default 0.10 (seed 002 §2, distribute_conf.py).
+    /// Half-length along the sole x [m].
     pub half_length: f64,
-    /// Half-width along the sole y [m]. Default 0.06 (seed 002 §2).
+    /// Half-width along the sole y [m].
     pub half_width: f64,
-    /// Friction coefficient μ of the pyramid. Default 0.7 (seed 002 §2, R L305).
+    /// Friction coefficient μ of the pyramid.
     pub friction: f64,
-    /// Height of the ankle joint above the sole origin [m]. Default 0.107 (TALOS URDF,
-    /// `leg_*_sole_fix_joint`, talos_data).
+    /// Height of the ankle joint above the sole origin [m].
     pub ankle_height: f64,
 }
 
-impl Default for Sole {
-    fn default() -> Self {
-        Self {
-            half_length: 0.10,
-            half_width: 0.06,
-            friction: 0.7,
-            ankle_height: 0.107,
-        }
-    }
-}
+/// Friction coefficient of the stabilizer's contact pyramids, seed 002 §2 (R L305).
+pub const DEFAULT_FRICTION: f64 = 0.7;
 
 impl Sole {
+    /// A sole of the robot's (from its description) with [`DEFAULT_FRICTION`].
+    pub fn new(half_length: f64, half_width: f64, ankle_height: f64) -> Self {
+        Self {
+            half_length,
+            half_width,
+            friction: DEFAULT_FRICTION,
+            ankle_height,
+        }
+    }
+
     /// World (x, y) of the four sole corners for a sole frame `pose`.
     pub fn corners(&self, pose: &Isometry3<f64>) -> [Vector2<f64>; 4] {
         let mut out = [Vector2::zeros(); 4];

@@ -38,7 +38,9 @@ pub mod wrench_distribution;
 
 pub use ankle_admittance::{AnkleAdmittance, AnkleAdmittanceSettings, AnkleCommand};
 pub use com_admittance::{ComAdmittance, ComAdmittanceSettings, ComReference};
-pub use contact::{zmp_from_feet, zmp_of, ContactPhase, Sole, Wrench, LEFT, RIGHT};
+pub use contact::{
+    zmp_from_feet, zmp_of, ContactPhase, Sole, Wrench, DEFAULT_FRICTION, LEFT, RIGHT,
+};
 pub use dcm::{DcmController, DcmGains, DcmOutput};
 pub use polygon::ConvexPolygon;
 pub use wrench_distribution::{Distribution, DistributionSettings, WrenchDistribution};
@@ -49,8 +51,7 @@ use nalgebra::{Isometry3, Vector2, Vector3};
 /// Settings of the [`Stabilizer`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StabilizerSettings {
-    /// Total mass [kg]; set it from the one shared robot model (seed 002 §7 item 6). Default
-    /// 90.2722 kg (TALOS, seed 002 §2).
+    /// Total mass [kg], from the one shared robot model (seed 002 §7 item 6).
     pub mass: f64,
     /// Gravity [m/s²]. Default 9.81 (seed 000 §3.3).
     pub gravity: f64,
@@ -77,17 +78,19 @@ pub struct StabilizerSettings {
     pub sway_damping_filter: Option<f64>,
 }
 
-impl Default for StabilizerSettings {
-    fn default() -> Self {
+impl StabilizerSettings {
+    /// The settings for a robot of `mass` kg standing on `sole`s (both from its
+    /// description), with the documents' defaults for everything else.
+    pub fn new(mass: f64, sole: Sole) -> Self {
         Self {
-            mass: 90.2722,
+            mass,
             gravity: 9.81,
             dt: 1e-3,
             dcm: DcmGains::default(),
             com_admittance: ComAdmittanceSettings::default(),
             distribution: DistributionSettings::default(),
             ankle: AnkleAdmittanceSettings::default(),
-            sole: Sole::default(),
+            sole,
             sway_damping: 0.1,
             sway_damping_filter: None,
         }

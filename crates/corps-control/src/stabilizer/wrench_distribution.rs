@@ -333,7 +333,10 @@ mod tests {
         let f = feet();
         let l = f[LEFT].translation.vector.xy();
         let r = f[RIGHT].translation.vector.xy();
-        let mut d = WrenchDistribution::new(DistributionSettings::default(), Sole::default());
+        let mut d = WrenchDistribution::new(
+            DistributionSettings::default(),
+            Sole::new(0.10, 0.06, 0.107),
+        );
         for rho in [0.3, 0.5, 0.8] {
             let p = r + (l - r) * rho;
             let (w, o) = weight_at(&p);
@@ -367,7 +370,10 @@ mod tests {
     #[test]
     fn single_support_puts_everything_on_the_stance_foot() {
         let f = feet();
-        let mut d = WrenchDistribution::new(DistributionSettings::default(), Sole::default());
+        let mut d = WrenchDistribution::new(
+            DistributionSettings::default(),
+            Sole::new(0.10, 0.06, 0.107),
+        );
         // p* 3 cm ahead and 1 cm inside of the right sole centre.
         let p = f[RIGHT].translation.vector.xy() + Vector2::new(0.03, 0.01);
         let (w, o) = weight_at(&p);
@@ -392,7 +398,10 @@ mod tests {
     #[test]
     fn infeasible_zmp_gives_the_nearest_feasible_wrench() {
         let f = feet();
-        let mut d = WrenchDistribution::new(DistributionSettings::default(), Sole::default());
+        let mut d = WrenchDistribution::new(
+            DistributionSettings::default(),
+            Sole::new(0.10, 0.06, 0.107),
+        );
         // 30 cm ahead of the feet (sole half-length 0.10): no contact wrench has this ZMP.
         let p = Vector2::new(0.30, 0.0);
         let (w, o) = weight_at(&p);

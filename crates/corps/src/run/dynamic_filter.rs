@@ -17,11 +17,12 @@ use super::metrics::DynamicFilterMetrics;
 use super::motion::{MotionPlan, Targets};
 use anyhow::{bail, Context, Result};
 use corps_control::stabilizer::Wrench;
-use corps_model::{compute_centroidal_momentum, difference_to, Data, Model};
+use corps_model::{compute_centroidal_momentum, difference_to, Data};
+use corps_robot::Robot;
 use corps_sim::Command;
 use corps_walk::dynamic_filter::DynamicFilter;
 use nalgebra::{DVector, Isometry3, Vector2, Vector3};
-use std::sync::Arc;
+use std::path::Path;
 
 /// Ticks of the IK at the first target before the replay is recorded.
 const WARM_UP_TICKS: usize = 2000;
@@ -46,9 +47,10 @@ impl ZmpError {
 }
 
 /// Replays `ticks` ticks of `plan` (period `dt`) through the kinematic IK from the
-/// configuration `q0` (posture task towards `posture`) and returns `p_ref − p_MB` per tick.
+/// configuration `q0` (posture task towards `posture`) with the robot's `ik_position` gains
+/// and returns `p_ref − p_MB` per tick.
 pub fn multibody_zmp_error(
-    model: &Arc<Model>,
+    robot: &Robot,
     q0: &DVector<f64>,
     posture: &DVector<f64>,
     plan: &MotionPlan,
@@ -56,9 +58,11 @@ pub fn multibody_zmp_error(
     dt: f64,
     gravity: f64,
 ) -> Result<ZmpError> {
+    let source = gains::GainsSource::resolve(None, "ik_position", robot, Path::new("."))?;
     let gains: gains::IkGainsFile =
-        gains::load(None, gains::IK_POSITION, &toml::Table::new()).context("IK gains")?;
-    let mut ik = IkController::new(model.clone(), gains, dt, q0, posture)?;
+        gains::load(&source, &toml::Table::new()).context("IK gains")?;
+    let mut ik = IkController::new(robot, gains, dt, q0, posture)?;
+    let model = &robot.model;
     let measured = Measured {
         com: Vector3::zeros(),
         com_velocity: Vector3::zeros(),
@@ -136,7 +140,7 @@ pub fn multibody_zmp_error(
 /// replays it, corrects its CoM with the preview control that planned it (same period, LIPM
 /// and horizon), replays the corrected plan and reports both errors.
 pub fn filter_walk(
-    model: &Arc<Model>,
+    robot: &Robot,
     q0: &DVector<f64>,
     posture: &DVector<f64>,
     plan: &mut MotionPlan,
@@ -146,7 +150,7 @@ pub fn filter_walk(
         bail!("the dynamic filter needs a walk planned by preview control (kind = \"walk\")");
     };
     let (dt, gravity) = (params.period, params.lipm.gravity);
-    let before = multibody_zmp_error(model, q0, posture, plan, ticks, dt, gravity)?;
+    let before = multibody_zmp_error(robot, q0, posture, plan, ticks, dt, gravity)?;
     let mut filter = DynamicFilter::new(&params).context("dynamic filter")?;
     let n = filter.horizon();
     // The error held at its last value past the end, so that every tick's window is a slice.
@@ -174,7 +178,7 @@ pub fn filter_walk(
     if let Some(walk) = plan.walk_mut() {
         walk.correct_com(&dx, &dy);
     }
-    let after = multibody_zmp_error(model, q0, posture, plan, ticks, dt, gravity)?;
+    let after = multibody_zmp_error(robot, q0, posture, plan, ticks, dt, gravity)?;
     Ok(DynamicFilterMetrics {
         before: before.rms_and_peak(),
         after: after.rms_and_peak(),

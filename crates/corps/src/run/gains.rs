@@ -9,45 +9,38 @@ use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// The built-in gains of each controller kind.
-pub const TSID_TORQUE: &str = include_str!("../../../../config/talos/tsid_torque.toml");
-pub const TSID_POSITION: &str = include_str!("../../../../config/talos/tsid_position.toml");
-pub const IK_POSITION: &str = include_str!("../../../../config/talos/ik_position.toml");
-pub const TSID_TORQUE_WALK: &str = include_str!("../../../../config/talos/tsid_torque_walk.toml");
-
-/// The built-in gains files by name (`[controller] gains = "tsid_torque_walk"`).
-pub const BUILT_IN: [(&str, &str); 4] = [
-    ("tsid_torque", TSID_TORQUE),
-    ("tsid_torque_walk", TSID_TORQUE_WALK),
-    ("tsid_position", TSID_POSITION),
-    ("ik_position", IK_POSITION),
-];
-
-/// The gains file a scenario names: a built-in name (no extension, no directory) or a path
-/// relative to the scenario's directory; None: the kind's default.
+/// Where a controller's gains come from.
 pub enum GainsSource {
-    /// The text of a built-in set.
-    BuiltIn(&'static str),
+    /// A gains file of the robot's description (by name) or a file's text already read.
+    Text {
+        text: String,
+        shown: String,
+    },
     File(std::path::PathBuf),
 }
 
 impl GainsSource {
-    pub fn resolve(name: &Path, base_dir: &Path) -> Result<GainsSource> {
-        let text = name.to_string_lossy();
-        if name.extension().is_none() && name.components().count() == 1 {
-            return BUILT_IN
-                .iter()
-                .find(|(n, _)| *n == text)
-                .map(|(_, t)| GainsSource::BuiltIn(t))
-                .ok_or_else(|| {
-                    let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
-                    anyhow!(
-                        "'{text}' is neither a file nor a built-in gains set ({})",
-                        names.join(", ")
-                    )
-                });
-        }
-        Ok(GainsSource::File(base_dir.join(name)))
+    /// `[controller] gains`: a name of the robot description's `[gains]` (no extension, no
+    /// directory) or a path relative to the scenario's directory; None: the robot's gains for
+    /// the controller `kind`.
+    pub fn resolve(
+        name: Option<&Path>,
+        kind: &str,
+        robot: &corps_robot::Robot,
+        base_dir: &Path,
+    ) -> Result<GainsSource> {
+        let text = match name {
+            None => kind.to_string(),
+            Some(name) if name.extension().is_none() && name.components().count() == 1 => {
+                name.to_string_lossy().into_owned()
+            }
+            Some(path) => return Ok(GainsSource::File(base_dir.join(path))),
+        };
+        let g = robot.gains(&text).map_err(|e| anyhow!("{e}"))?;
+        Ok(GainsSource::Text {
+            text: g.text.clone(),
+            shown: g.shown.clone(),
+        })
     }
 }
 
@@ -118,6 +111,11 @@ pub struct StabilizerGains {
     /// Damping of the whole-body sway through the CoM reference (s); absent: the
     /// stabilizer's default (`corps_control::stabilizer::StabilizerSettings::sway_damping`).
     pub sway_damping: Option<f64>,
+    /// The stabilizer's sole half-length and half-width (m), where the document it follows
+    /// uses another rectangle than the robot description's feet; absent: the description's
+    /// (its largest centred rectangle).
+    pub sole_half_length: Option<f64>,
+    pub sole_half_width: Option<f64>,
 }
 
 impl StabilizerGains {
@@ -129,6 +127,14 @@ impl StabilizerGains {
             ("stabilizer.com_admittance", self.com_admittance),
             ("stabilizer.ankle_gain", self.ankle_gain),
             ("stabilizer.sway_damping", self.sway_damping.unwrap_or(0.0)),
+            (
+                "stabilizer.sole_half_length",
+                self.sole_half_length.unwrap_or(0.0),
+            ),
+            (
+                "stabilizer.sole_half_width",
+                self.sole_half_width.unwrap_or(0.0),
+            ),
         ] {
             check_non_negative(name, x)?;
         }
@@ -169,21 +175,18 @@ pub struct IkGainsFile {
     pub stabilizer: Option<StabilizerGains>,
 }
 
-/// Reads gains of type `T` from `source`, or from the built-in `default` text when None, with
-/// the values of `overrides` (a scenario's `[controller.set]` table, e.g.
-/// `posture.weight = 1e-3`) replacing the file's.
+/// Reads gains of type `T` from `source`, with the values of `overrides` (a scenario's
+/// `[controller.set]` table, e.g. `posture.weight = 1e-3`) replacing the file's.
 pub fn load<T: serde::de::DeserializeOwned>(
-    source: Option<&GainsSource>,
-    default: &str,
+    source: &GainsSource,
     overrides: &toml::Table,
 ) -> Result<T> {
     let (mut text, mut name) = match source {
-        Some(GainsSource::File(p)) => (
+        GainsSource::File(p) => (
             std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?,
             p.display().to_string(),
         ),
-        Some(GainsSource::BuiltIn(t)) => (t.to_string(), "built-in gains".to_string()),
-        None => (default.to_string(), "built-in gains".to_string()),
+        GainsSource::Text { text, shown } => (text.clone(), shown.clone()),
     };
     if !overrides.is_empty() {
         let mut table: toml::Table = text
@@ -198,7 +201,7 @@ pub fn load<T: serde::de::DeserializeOwned>(
         let path = e.path().to_string();
         anyhow!("{name}: {path}: {}", e.inner().message().trim())
     })?;
-    crate::strict_toml::check_lengths::<T>(&text).map_err(|e| anyhow!("{name}: {e}"))?;
+    corps_robot::toml_text::check_lengths::<T>(&text).map_err(|e| anyhow!("{name}: {e}"))?;
     Ok(gains)
 }
 
@@ -314,33 +317,50 @@ impl IkGainsFile {
 mod tests {
     use super::*;
 
+    /// TALOS' gains file `name` from its description.
+    fn talos(name: &str) -> GainsSource {
+        let robot = corps_robot::Robot::built_in("talos").unwrap().unwrap();
+        GainsSource::resolve(None, name, &robot, Path::new(".")).unwrap()
+    }
+
+    fn text(name: &str) -> String {
+        match talos(name) {
+            GainsSource::Text { text, .. } => text,
+            GainsSource::File(_) => unreachable!("built-in"),
+        }
+    }
+
     #[test]
     fn the_built_in_gains_parse_and_check() {
-        let t: TsidGains = load(None, TSID_TORQUE, &toml::Table::new()).unwrap();
+        let t: TsidGains = load(&talos("tsid_torque"), &toml::Table::new()).unwrap();
         t.check().unwrap();
         assert_eq!(t.com.kp, 50.0);
-        let p: TsidGains = load(None, TSID_POSITION, &toml::Table::new()).unwrap();
+        let p: TsidGains = load(&talos("tsid_position"), &toml::Table::new()).unwrap();
         p.check().unwrap();
         assert_eq!(
             p.posture.groups["leg_left_"],
             vec![10.0, 5.0, 5.0, 1.0, 10.0, 10.0]
         );
-        let w: TsidGains = load(None, TSID_TORQUE_WALK, &toml::Table::new()).unwrap();
+        let w: TsidGains = load(&talos("tsid_torque_walk"), &toml::Table::new()).unwrap();
         w.check().unwrap();
         assert_eq!((w.com.kp, w.feet.kp), (20.0, 1200.0));
-        let ik: IkGainsFile = load(None, IK_POSITION, &toml::Table::new()).unwrap();
+        let ik: IkGainsFile = load(&talos("ik_position"), &toml::Table::new()).unwrap();
         ik.check().unwrap();
         assert_eq!(ik.waist, 300.0);
     }
 
     #[test]
     fn unknown_keys_and_bad_values_are_errors() {
-        let bad = TSID_TORQUE.replace("[com]\n", "[com]\nkpp = 1.0\n");
-        let e = load::<TsidGains>(None, &bad, &toml::Table::new())
+        let bad = text("tsid_torque").replace("[com]\n", "[com]\nkpp = 1.0\n");
+        let source = GainsSource::Text {
+            text: bad,
+            shown: "test".into(),
+        };
+        let e = load::<TsidGains>(&source, &toml::Table::new())
             .unwrap_err()
             .to_string();
         assert!(e.contains("com") && e.contains("kpp"), "{e}");
-        let mut t: TsidGains = load(None, TSID_TORQUE, &toml::Table::new()).unwrap();
+        let mut t: TsidGains = load(&talos("tsid_torque"), &toml::Table::new()).unwrap();
         t.contacts.fmax = 0.5;
         assert!(t.check().unwrap_err().to_string().contains("fmax"));
         t.contacts.fmax = 1000.0;
@@ -351,13 +371,13 @@ mod tests {
     #[test]
     fn overrides_replace_single_values_and_are_checked_like_the_file() {
         let set: toml::Table = "posture.weight = 1e-3\ncom.kp = 20.0".parse().unwrap();
-        let t: TsidGains = load(None, TSID_TORQUE, &set).unwrap();
+        let t: TsidGains = load(&talos("tsid_torque"), &set).unwrap();
         assert_eq!(
             (t.posture.weight, t.com.kp, t.com.kd),
             (1e-3, 20.0, Some(5.0))
         );
         let set: toml::Table = "posture.wieght = 1.0".parse().unwrap();
-        let e = load::<TsidGains>(None, TSID_TORQUE, &set).unwrap_err();
+        let e = load::<TsidGains>(&talos("tsid_torque"), &set).unwrap_err();
         assert!(e.to_string().contains("wieght"), "{e}");
     }
 }

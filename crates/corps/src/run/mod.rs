@@ -11,7 +11,8 @@
 //! duration = 10.0                   # controlled time (s)
 //! [controller]
 //! kind = "tsid_torque"              # ik_position | tsid_position | tsid_torque
-//! gains = "../config/talos/tsid_torque.toml"   # optional: the built-in file of the kind
+//! gains = "tsid_torque_walk"      # optional: a name of the robot's [gains] or a file;
+//!                                 # absent: the robot's gains for the kind
 //! [motion]
 //! kind = "com_sinusoid"             # stand | com_sinusoid | squat | one_foot
 //! amplitude = [0.0, 0.03, 0.0]
@@ -73,8 +74,8 @@ const ZMP_MIN_FZ: f64 = corps_estimation::ZMP_MIN_FORCE;
 #[serde(deny_unknown_fields)]
 pub struct ControllerSection {
     pub kind: ControllerKind,
-    /// Gains file, relative to the scenario file (absent: the built-in file of the kind,
-    /// `config/talos/<kind>.toml`).
+    /// Gains: a name of the robot description's `[gains]` (`tsid_torque_walk`) or a file
+    /// relative to the scenario (absent: the robot's gains for the kind).
     pub gains: Option<PathBuf>,
     /// Time under the joint PD hold before the controller takes over (s).
     #[serde(default = "half_second")]
@@ -133,6 +134,10 @@ pub struct RunArgs {
     /// replacing the scenario's; see `scenarios/sensors/`.
     #[arg(long, value_name = "FILE")]
     noise: Option<PathBuf>,
+    /// The robot, replacing the scenario's: `talos`, `icub`, `simple_humanoid` or a robot
+    /// description file (`robots/*/*.toml`).
+    #[arg(long, value_name = "ROBOT")]
+    robot: Option<String>,
 }
 
 /// `--overlap` values.
@@ -157,6 +162,8 @@ pub struct RunOptions {
     pub estimator: Option<EstimatorKind>,
     /// Replaces the scenario's `[noise]` (and its `seed` when the profile gives one).
     pub noise: Option<SensorProfile>,
+    /// Replaces the scenario's robot (`--robot`).
+    pub robot: Option<String>,
     /// Raised to stop the run at the next tick: it then writes what it has, marked
     /// interrupted (the command's Ctrl-C, [`crate::interrupt`]).
     pub interrupt: Option<&'static AtomicBool>,
@@ -171,6 +178,7 @@ impl RunOptions {
             max_log_mb: None,
             estimator: None,
             noise: None,
+            robot: None,
             interrupt: None,
         }
     }
@@ -189,6 +197,7 @@ impl RunOptions {
             max_log_mb: None,
             estimator: None,
             noise: None,
+            robot: None,
             interrupt: Some(&crate::interrupt::FLAG),
         }
     }
@@ -200,6 +209,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     options.max_log_mb = args.max_log_mb;
     options.estimator = args.estimator;
     options.noise = args.noise.as_deref().map(SensorProfile::read).transpose()?;
+    options.robot = args.robot;
     match (args.serial, args.overlap) {
         (true, _) | (_, Some(OverlapArg::Never)) => options.overlap = Overlap::Never,
         (_, Some(OverlapArg::Always)) => options.overlap = Overlap::Always,
@@ -311,6 +321,9 @@ pub fn run_text(
             .with_max_log_mb(mb)
             .map_err(|e| anyhow!("{shown}: {e}"))?;
     }
+    if let Some(robot) = &options.robot {
+        scenario.robot = crate::sim_cmd::scenario::RobotSection::from_argument(robot);
+    }
     if let Some(kind) = options.estimator {
         scenario.estimator.kind = kind;
     }
@@ -413,11 +426,9 @@ pub fn run_scenario(
     let Some(section) = &scenario.controller else {
         bail!("no [controller] section: this is a `corps sim` scenario");
     };
-    let source = (section.gains.as_ref())
-        .map(|p| gains::GainsSource::resolve(p, base_dir))
-        .transpose()
-        .context("controller.gains")?;
     let Setup {
+        robot,
+        criteria,
         model,
         mut sim,
         mut sensors,
@@ -427,9 +438,17 @@ pub fn run_scenario(
         imu_frame,
         ..
     } = setup::build(scenario, base_dir)?;
-    if model.nv < 6 || !model.has_free_flyer() {
-        bail!("corps run needs a free-floating robot");
-    }
+    let Some(robot) = robot else {
+        bail!("robot: corps run needs a robot description (robot.description), not a bare URDF");
+    };
+    let source = gains::GainsSource::resolve(
+        section.gains.as_deref(),
+        section.kind.name(),
+        &robot,
+        base_dir,
+    )
+    .context("controller.gains")?;
+    let soles = controller::two_feet(&robot)?;
     let dt = scenario.sim.control_dt;
     let settle_ticks = (section.settle / dt).round() as usize;
     for _ in 0..settle_ticks {
@@ -444,8 +463,13 @@ pub fn run_scenario(
     }
     let handover = sim.time();
     // Pushes count from the handover (the setup added none).
-    let pushes = crate::sim_cmd::pushes::schedule(&scenario.pushes, sim.time(), scenario.duration)
-        .map_err(|e| anyhow!("{e}"))?;
+    let pushes = crate::sim_cmd::pushes::schedule(
+        &scenario.pushes,
+        sim.time(),
+        scenario.duration,
+        Some(model.total_mass()),
+    )
+    .map_err(|e| anyhow!("{e}"))?;
     for push in pushes {
         sim.add_push(push)?;
     }
@@ -454,39 +478,39 @@ pub fn run_scenario(
     // The controller, and whether a stabilizer runs (its signals go to the log).
     let (mut ctrl, stabilized) = match section.kind {
         ControllerKind::TsidTorque | ControllerKind::TsidPosition => {
-            let (mode, default) = if section.kind == ControllerKind::TsidTorque {
-                (TsidMode::Torque, gains::TSID_TORQUE)
+            let mode = if section.kind == ControllerKind::TsidTorque {
+                TsidMode::Torque
             } else {
-                (TsidMode::Position, gains::TSID_POSITION)
+                TsidMode::Position
             };
             let g: gains::TsidGains =
-                gains::load(source.as_ref(), default, &section.set).context("controller.gains")?;
+                gains::load(&source, &section.set).context("controller.gains")?;
             let stabilizer = g.stabilizer.clone();
-            let inner = TsidController::new(model.clone(), mode, g, dt, &q, &v, &q0)
-                .context("controller")?;
+            let inner =
+                TsidController::new(&robot, mode, g, dt, &q, &v, &q0).context("controller")?;
             if mode == TsidMode::Torque && stabilizer.is_some() {
                 bail!("controller.gains: [stabilizer] is for the position-mode controllers")
             }
-            let ctrl = behind_stabilizer(inner, stabilizer.as_ref(), mass, dt)
+            let ctrl = behind_stabilizer(inner, stabilizer.as_ref(), soles[0], mass, dt)
                 .context("controller.gains.stabilizer")?;
             (ctrl, stabilizer.is_some())
         }
         ControllerKind::IkPosition => {
             let g: gains::IkGainsFile =
-                gains::load(source.as_ref(), gains::IK_POSITION, &section.set)
-                    .context("controller.gains")?;
+                gains::load(&source, &section.set).context("controller.gains")?;
             let stabilizer = g.stabilizer.clone();
-            let inner = IkController::new(model.clone(), g, dt, &q, &q0).context("controller")?;
-            let ctrl = behind_stabilizer(inner, stabilizer.as_ref(), mass, dt)
+            let inner = IkController::new(&robot, g, dt, &q, &q0).context("controller")?;
+            let ctrl = behind_stabilizer(inner, stabilizer.as_ref(), soles[0], mass, dt)
                 .context("controller.gains.stabilizer")?;
             (ctrl, stabilizer.is_some())
         }
     };
 
-    let soles = [
-        model.frame_id(controller::TALOS_SOLES[0])?,
-        model.frame_id(controller::TALOS_SOLES[1])?,
-    ];
+    let ankles = soles.map(|f| {
+        f.ankle
+            .map(|j| model.joints[j].idx_v - model.first_actuated())
+    });
+    let soles = soles.map(|f| f.frame);
     let foot_joints = soles.map(|f| model.frames[f].parent_joint.unwrap_or(usize::MAX));
     let mut estimator = estimation::RunEstimator::new(
         &scenario.estimator,
@@ -511,7 +535,7 @@ pub fn run_scenario(
     )?;
     let dynamic_filter = match &scenario.motion {
         MotionSection::Walk(w) if w.dynamic_filter => Some(
-            dynamic_filter::filter_walk(&model, &q, &q0, &mut plan, ticks)
+            dynamic_filter::filter_walk(&robot, &q, &q0, &mut plan, ticks)
                 .context("motion.dynamic_filter")?,
         ),
         _ => None,
@@ -541,15 +565,6 @@ pub fn run_scenario(
         ..Default::default()
     });
     let walking = |t: f64| walking_window.is_some_and(|(a, b)| t >= a && t < b);
-    // Ankle pitch and roll of each leg (TALOS: leg_*_5 and leg_*_6), as torque indices.
-    let ankle = |name: &str| -> Result<usize> {
-        let j = model.joint_id(name)?;
-        Ok(model.joints[j].idx_v - 6)
-    };
-    let ankles = [
-        [ankle("leg_left_5_joint")?, ankle("leg_left_6_joint")?],
-        [ankle("leg_right_5_joint")?, ankle("leg_right_6_joint")?],
-    ];
     // The log streams to disk as the run goes; the plots keep a bounded decimated copy.
     let header = log_columns(stabilized);
     let log_every = scenario.output.log_every;
@@ -561,9 +576,8 @@ pub fn run_scenario(
     let mut plot_buffer = PlotBuffer::new(header.len());
     let mut tick_time = TickTimer::default();
     let support = |feet: &[Se3; 2]| feet[0].translation.z.min(feet[1].translation.z);
-    let mut verdict =
-        VerdictObserver::new(scenario.verdict, mass * GRAVITY, com0.z - support(&feet0))
-            .context("verdict")?;
+    let mut verdict = VerdictObserver::new(criteria, mass * GRAVITY, com0.z - support(&feet0))
+        .context("verdict")?;
     let mut force_sum = [0.0; 2];
     let mut progress = Progress::new(ticks, dt, options.progress);
     // The controller reads the state from these copies while the simulator prepares its

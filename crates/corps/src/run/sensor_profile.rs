@@ -29,7 +29,7 @@ pub struct SensorProfile {
 impl SensorProfile {
     /// Parses and checks a profile; the error is one line naming the key.
     pub fn parse(text: &str) -> Result<SensorProfile, String> {
-        crate::strict_toml::check_lengths::<SensorProfile>(text)?;
+        corps_robot::toml_text::check_lengths::<SensorProfile>(text)?;
         let profile: SensorProfile =
             toml::from_str(text).map_err(|e| e.message().trim().replace('\n', " "))?;
         check_noise(&profile.noise)?;

@@ -40,6 +40,10 @@ pub struct SimArgs {
     /// Size cap of the log in MB (replaces `[output] max_log_mb`, default 1024).
     #[arg(long, value_name = "MB")]
     max_log_mb: Option<f64>,
+    /// The robot, replacing the scenario's: `talos`, `icub`, `simple_humanoid` or a robot
+    /// description file (`robots/*/*.toml`).
+    #[arg(long, value_name = "ROBOT")]
+    robot: Option<String>,
 }
 
 /// Runs `corps sim`.
@@ -60,6 +64,9 @@ pub fn run(args: SimArgs) -> Result<()> {
         scenario = scenario
             .with_max_log_mb(mb)
             .map_err(|e| anyhow!("{shown}: {e}"))?;
+    }
+    if let Some(robot) = &args.robot {
+        scenario.robot = scenario::RobotSection::from_argument(robot);
     }
     let base_dir = path.parent().unwrap_or(Path::new("."));
     let setup = setup::build(&scenario, base_dir).map_err(|e| anyhow!("{shown}: {e:#}"))?;
@@ -120,6 +127,7 @@ fn simulate(
         feet,
         ticks,
         q0,
+        criteria,
         ..
     } = setup;
     let ft_names: Vec<String> = sensors.force_torque_names().map(String::from).collect();
@@ -154,8 +162,7 @@ fn simulate(
     };
     let zeros_v = vec![0.0; model.nv];
     let com0 = center_of_mass(&model, &mut data, q0.as_slice(), &zeros_v, &zeros_v)?;
-    let mut verdict =
-        VerdictObserver::new(scenario.verdict, weight, com0.z - ground).context("verdict")?;
+    let mut verdict = VerdictObserver::new(criteria, weight, com0.z - ground).context("verdict")?;
     let foot_joints: Vec<usize> = feet.iter().map(|f| f.joint).collect();
     let mut tracker = Tracker::new(feet_start);
 

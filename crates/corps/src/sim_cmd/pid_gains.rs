@@ -88,7 +88,8 @@ mod tests {
     use super::*;
 
     fn talos() -> Model {
-        crate::default_robot::load_sim_model(None, None).unwrap()
+        let talos = corps_robot::Robot::built_in("talos").unwrap().unwrap();
+        std::sync::Arc::unwrap_or_clone(talos.model)
     }
 
     #[test]

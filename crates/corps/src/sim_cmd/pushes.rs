@@ -30,6 +30,10 @@ pub struct PushSpec {
     /// Flip the force and torque at each repetition.
     #[serde(default)]
     pub alternate: bool,
+    /// The force and torque are for a robot of this many kg: another robot gets them scaled
+    /// by its mass over this one (the same change of momentum per kg). Absent: as written,
+    /// whatever the robot.
+    pub for_mass: Option<f64>,
 }
 
 impl PushSpec {
@@ -65,16 +69,34 @@ impl PushSpec {
                 ));
             }
         }
+        if let Some(m) = self.for_mass {
+            if !(m > 0.0 && m.is_finite()) {
+                return Err(format!(
+                    "push[{k}].for_mass: must be a finite mass > 0 kg, got {m}"
+                ));
+            }
+        }
         if self.alternate && self.every.is_none() {
             return Err(format!("push[{k}].alternate: needs push[{k}].every"));
         }
         Ok(())
     }
 
-    /// The pushes that start before `until` (s), the first at `start` + `offset`.
-    fn expand(&self, offset: f64, until: f64, out: &mut Vec<Push>) -> Result<(), String> {
+    /// The pushes that start before `until` (s), the first at `start` + `offset`, for a robot
+    /// of `mass` kg.
+    fn expand(
+        &self,
+        offset: f64,
+        until: f64,
+        mass: Option<f64>,
+        out: &mut Vec<Push>,
+    ) -> Result<(), String> {
         let mut start = self.start;
-        let mut sign = 1.0;
+        let scale = match (self.for_mass, mass) {
+            (Some(written), Some(robot)) => robot / written,
+            _ => 1.0,
+        };
+        let mut sign = scale;
         loop {
             if out.len() >= MAX_PUSHES {
                 return Err(format!(
@@ -100,11 +122,17 @@ impl PushSpec {
 }
 
 /// Every push of `specs` that starts within a run of `duration` seconds, the times shifted by
-/// `offset` (a controller run counts them from the handover).
-pub fn schedule(specs: &[PushSpec], offset: f64, duration: f64) -> Result<Vec<Push>, String> {
+/// `offset` (a controller run counts them from the handover), for a robot of `mass` kg (None:
+/// every force as written).
+pub fn schedule(
+    specs: &[PushSpec],
+    offset: f64,
+    duration: f64,
+    mass: Option<f64>,
+) -> Result<Vec<Push>, String> {
     let mut out = vec![];
     for spec in specs {
-        spec.expand(offset, duration, &mut out)?;
+        spec.expand(offset, duration, mass, &mut out)?;
     }
     Ok(out)
 }
@@ -122,18 +150,28 @@ mod tests {
             torque: [0.0; 3],
             every,
             alternate,
+            for_mass: None,
         }
     }
 
     #[test]
     fn a_repeated_push_alternates_until_the_run_ends() {
-        let pushes = schedule(&[spec(Some(30.0), true)], 0.5, 3600.0).unwrap();
+        let pushes = schedule(&[spec(Some(30.0), true)], 0.5, 3600.0, None).unwrap();
         assert_eq!(pushes.len(), 120);
         assert_eq!(pushes[1].start, 35.5);
         assert_eq!(pushes[1].force[0], -100.0);
         assert_eq!(pushes[2].force[0], 100.0);
         assert_eq!(pushes[119].start, 5.5 + 119.0 * 30.0);
-        assert_eq!(schedule(&[spec(None, false)], 0.0, 10.0).unwrap().len(), 1);
+        assert_eq!(
+            schedule(&[spec(None, false)], 0.0, 10.0, None)
+                .unwrap()
+                .len(),
+            1
+        );
+        let mut light = spec(None, false);
+        light.for_mass = Some(90.0);
+        let pushes = schedule(&[light], 0.0, 10.0, Some(30.0)).unwrap();
+        assert!((pushes[0].force[0] - 100.0 / 3.0).abs() < 1e-12);
     }
 
     #[test]
@@ -145,7 +183,7 @@ mod tests {
         assert!(spec(None, true).check(0).unwrap_err().contains("alternate"));
         let mut fast = spec(Some(0.2), false);
         fast.start = 0.0;
-        let e = schedule(&[fast], 0.0, 1e6).unwrap_err();
+        let e = schedule(&[fast], 0.0, 1e6, None).unwrap_err();
         assert!(e.contains("more than"), "{e}");
     }
 }

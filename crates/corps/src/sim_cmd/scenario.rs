@@ -22,9 +22,9 @@ pub struct Scenario {
     /// makes the command exit non-zero.
     #[serde(default = "completed")]
     pub expect: Verdict,
-    /// When the run counts as fallen, diverged or its controller failed.
-    #[serde(default)]
-    pub verdict: Criteria,
+    /// When the run counts as fallen, diverged or its controller failed; replaces the robot
+    /// description's `[fall]` (absent keys: corps' defaults).
+    pub verdict: Option<Criteria>,
     #[serde(default)]
     pub robot: RobotSection,
     #[serde(default)]
@@ -68,12 +68,35 @@ fn completed() -> Verdict {
     Verdict::Completed
 }
 
-/// `[robot]`: the URDF and SRDF, relative to the scenario file. Default: TALOS with box feet.
+/// `[robot]`: a robot description — a built-in robot (`talos`, `icub`, `simple_humanoid`) or
+/// a description file relative to the scenario — or, for `corps sim` only, a bare URDF (and
+/// SRDF) relative to the scenario. Default: `description = "talos"`.
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RobotSection {
+    pub description: Option<String>,
     pub urdf: Option<PathBuf>,
     pub srdf: Option<PathBuf>,
+}
+
+impl RobotSection {
+    /// The robot of `--robot`: a built-in name, or a description path from the current
+    /// directory.
+    pub fn from_argument(robot: &str) -> Self {
+        let path = std::path::Path::new(robot);
+        let description = if path.extension().is_some() && path.is_relative() {
+            std::env::current_dir()
+                .map(|d| d.join(path).display().to_string())
+                .unwrap_or_else(|_| robot.to_string())
+        } else {
+            robot.to_string()
+        };
+        Self {
+            description: Some(description),
+            urdf: None,
+            srdf: None,
+        }
+    }
 }
 
 /// `[terrain]`: a preset and its friction coefficient.
@@ -97,8 +120,9 @@ impl Default for TerrainSection {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct InitialSection {
-    /// A reference configuration of the SRDF.
-    pub configuration: String,
+    /// A reference configuration of the SRDF (default: the robot's posture, else
+    /// `half_sitting`).
+    pub configuration: Option<String>,
     /// Lower or lift the base so the lowest contact point touches z = 0.
     pub place_on_ground: bool,
     /// Horizontal base position (m), replacing the configuration's.
@@ -108,7 +132,7 @@ pub struct InitialSection {
 impl Default for InitialSection {
     fn default() -> Self {
         Self {
-            configuration: "half_sitting".into(),
+            configuration: None,
             place_on_ground: true,
             base_xy: None,
         }
@@ -208,32 +232,7 @@ impl Default for OutputSection {
 impl Scenario {
     /// Parses and checks a scenario. The error is one line: `line N: key.path: message`.
     pub fn parse(text: &str) -> Result<Scenario, String> {
-        let one_line = |e: &toml::de::Error, path: &str| {
-            let span = e
-                .span()
-                .map(|s| s.start.min(text.len())..s.end.min(text.len()));
-            let line = span
-                .as_ref()
-                .map(|s| format!("line {}: ", text[..s.start].matches('\n').count() + 1))
-                .unwrap_or_default();
-            let key = if path.is_empty() || path == "." {
-                String::new()
-            } else {
-                format!("{path}: ")
-            };
-            let mut message = e.message().trim().replace('\n', " ");
-            // Syntax errors (no key path) show the text they point at, e.g. a duplicate key.
-            if let Some(at) = span.map(|s| text[s].trim()) {
-                if key.is_empty() && !at.is_empty() && at.len() <= 40 && !at.contains('\n') {
-                    message = format!("{message} `{at}`");
-                }
-            }
-            format!("{line}{key}{message}")
-        };
-        let de = toml::Deserializer::parse(text).map_err(|e| one_line(&e, ""))?;
-        let scenario: Scenario = serde_path_to_error::deserialize(de)
-            .map_err(|e| one_line(e.inner(), &e.path().to_string()))?;
-        crate::strict_toml::check_lengths::<Scenario>(text)?;
+        let scenario: Scenario = corps_robot::toml_text::parse(text)?;
         scenario.check()?;
         Ok(scenario)
     }
@@ -297,6 +296,11 @@ impl Scenario {
                 ));
             }
         }
+        if self.robot.description.is_some()
+            && (self.robot.urdf.is_some() || self.robot.srdf.is_some())
+        {
+            return Err("robot: give either a description or a urdf (and srdf), not both".into());
+        }
         if !(self.terrain.mu >= 0.0 && self.terrain.mu.is_finite()) {
             return Err(format!(
                 "terrain.mu: must be a finite number ≥ 0, got {}",
@@ -338,8 +342,10 @@ impl Scenario {
         for (k, p) in self.pushes.iter().enumerate() {
             p.check(k)?;
         }
-        self.verdict.check().map_err(|e| format!("verdict.{e}"))?;
-        super::pushes::schedule(&self.pushes, 0.0, self.duration)?;
+        if let Some(v) = &self.verdict {
+            v.check().map_err(|e| format!("verdict.{e}"))?;
+        }
+        super::pushes::schedule(&self.pushes, 0.0, self.duration, None)?;
         check_noise(&self.noise)
     }
 
@@ -411,7 +417,7 @@ mod tests {
         assert_eq!(s.duration, 1.5);
         assert_eq!(s.terrain.preset, TerrainPreset::Flat);
         assert_eq!(s.terrain.mu, 0.8);
-        assert_eq!(s.initial.configuration, "half_sitting");
+        assert_eq!(s.initial.configuration, None);
         assert!(s.initial.place_on_ground && s.output.plots);
         assert_eq!(s.actuation.mode, ActuationMode::Position);
         assert_eq!(s.sim, SimSettings::default());

@@ -3,9 +3,10 @@
 //! needs the robot model is checked here; errors name the scenario key.
 
 use super::scenario::{ActuationMode, Scenario};
-use crate::default_robot::load_sim_model;
 use anyhow::{anyhow, bail, Context, Result};
-use corps_model::{forward_kinematics_placements, Data, Model};
+use corps_loop::verdict::Criteria;
+use corps_model::{forward_kinematics_placements, Data, Model, RootJoint};
+use corps_robot::Robot;
 use corps_sim::{
     first_actuated, place_on_ground, sample_contact_points, Command, SensorLayout, Sensors,
     ServoGains, Simulator, Surface, Terrain,
@@ -29,6 +30,8 @@ pub struct Foot {
 
 /// Everything a run needs.
 pub struct Setup {
+    /// The robot's description (None for a bare URDF).
+    pub robot: Option<Robot>,
     pub model: Arc<Model>,
     pub sim: Simulator,
     pub sensors: Sensors,
@@ -41,19 +44,40 @@ pub struct Setup {
     pub ticks: usize,
     /// Starting configuration (after placement).
     pub q0: DVector<f64>,
+    /// When the run counts as failed: the scenario's `[verdict]`, else the robot's `[fall]`.
+    pub criteria: Criteria,
+}
+
+/// The scenario's robot: its description (default: TALOS), or a bare URDF for `corps sim`.
+pub fn load_robot(scenario: &Scenario, base_dir: &Path) -> Result<(Option<Robot>, Arc<Model>)> {
+    let section = &scenario.robot;
+    if let Some(urdf) = &section.urdf {
+        let urdf = base_dir.join(urdf);
+        let mut model = corps_model::build_model_from_urdf_file(&urdf, RootJoint::FreeFlyer)
+            .with_context(|| format!("robot.urdf: loading {}", urdf.display()))?;
+        if let Some(srdf) = &section.srdf {
+            let srdf = base_dir.join(srdf);
+            corps_model::load_reference_configurations(&mut model, &srdf)
+                .with_context(|| format!("robot.srdf: loading {}", srdf.display()))?;
+        }
+        return Ok((None, Arc::new(model)));
+    }
+    let name = section.description.as_deref().unwrap_or("talos");
+    let robot = Robot::resolve(name, base_dir).map_err(|e| anyhow!("robot: {e}"))?;
+    let model = robot.model.clone();
+    Ok((Some(robot), model))
 }
 
 /// Builds the world of `scenario`; relative robot paths are resolved from `base_dir` (the
 /// scenario file's directory).
 pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
-    let urdf = scenario.robot.urdf.as_ref().map(|p| base_dir.join(p));
-    let srdf = scenario.robot.srdf.as_ref().map(|p| base_dir.join(p));
-    let default_robot = urdf.is_none();
-    let model = Arc::new(load_sim_model(urdf.as_deref(), srdf.as_deref()).context("robot")?);
-
+    let (robot, model) = load_robot(scenario, base_dir)?;
     let init = &scenario.initial;
+    let configuration = (init.configuration.as_deref())
+        .or(robot.as_ref().map(|r| r.posture_name.as_str()))
+        .unwrap_or("half_sitting");
     let mut q0 = model
-        .reference_configuration(&init.configuration)
+        .reference_configuration(configuration)
         .map_err(|e| anyhow!("initial.configuration: {e}"))?
         .clone();
     if let Some([x, y]) = init.base_xy {
@@ -104,14 +128,19 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
     }
     // A controller run adds its pushes at the handover (`corps run`), a plain simulation now.
     if scenario.controller.is_none() {
-        let pushes = super::pushes::schedule(&scenario.pushes, 0.0, scenario.duration)
-            .map_err(|e| anyhow!("{e}"))?;
+        let pushes = super::pushes::schedule(
+            &scenario.pushes,
+            0.0,
+            scenario.duration,
+            Some(model.total_mass()),
+        )
+        .map_err(|e| anyhow!("{e}"))?;
         for push in pushes {
             sim.add_push(push).map_err(|e| anyhow!("push: {e}"))?;
         }
     }
 
-    let (layout, feet) = sensor_layout(scenario, default_robot);
+    let (layout, feet) = sensor_layout(scenario, robot.as_ref());
     let sensors = Sensors::new(&model, &layout, scenario.noise.clone(), scenario.seed)
         .map_err(|e| anyhow!("sensors: {e}"))?;
     let feet = feet
@@ -144,7 +173,12 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         .transpose()
         .map_err(|e| anyhow!("sensors.imu: {e}"))?;
     let ticks = (scenario.duration / scenario.sim.control_dt).round() as usize;
+    let criteria = scenario
+        .verdict
+        .unwrap_or_else(|| robot.as_ref().map_or_else(Criteria::default, |r| r.fall));
     Ok(Setup {
+        robot,
+        criteria,
         model,
         sim,
         sensors,
@@ -156,15 +190,15 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
     })
 }
 
-/// The sensor layout and the feet: the scenario's `[sensors]`, else TALOS' (ankle F/T at the
-/// soles, wrist F/T, IMU) for the default robot and only an IMU on the root body for another.
+/// The sensor layout and the feet: the scenario's `[sensors]`, else the robot description's,
+/// else (a bare URDF) only an IMU on the root body.
 fn sensor_layout(
     scenario: &Scenario,
-    default_robot: bool,
+    robot: Option<&Robot>,
 ) -> (SensorLayout, Vec<(String, String)>) {
     let model = scenario.force_torque_model;
-    match &scenario.sensors {
-        Some(s) => (
+    match (&scenario.sensors, robot) {
+        (Some(s), _) => (
             SensorLayout {
                 force_torque: s.force_torque.clone(),
                 force_torque_model: model,
@@ -172,17 +206,16 @@ fn sensor_layout(
             },
             s.feet.clone(),
         ),
-        None if default_robot => (
-            SensorLayout {
-                force_torque_model: model,
-                ..SensorLayout::default()
-            },
-            vec![
-                ("left".into(), "left_ankle".into()),
-                ("right".into(), "right_ankle".into()),
-            ],
-        ),
-        None => (
+        (None, Some(robot)) => {
+            let feet = (robot.feet.iter())
+                .filter_map(|f| {
+                    let sensor = &robot.force_torque[f.force_torque?].0;
+                    Some((f.label.clone(), sensor.clone()))
+                })
+                .collect();
+            (SensorLayout::of(robot, model), feet)
+        }
+        (None, None) => (
             SensorLayout {
                 force_torque: vec![],
                 force_torque_model: model,

@@ -4,13 +4,13 @@
 //! that follow the foot targets, in contact or not.
 
 use super::WholeBodyController;
-use crate::run::controller::tsid::TALOS_WAIST;
 use crate::run::gains::IkGainsFile;
 use crate::run::motion::Targets;
 use anyhow::Result;
 use corps_control::formulation::{IkGains, InverseKinematics, StackFrames};
 use corps_control::{ControlError, FallbackReason, RobotState};
 use corps_model::Model;
+use corps_robot::Robot;
 use corps_sim::Command;
 use nalgebra::{DVector, Vector3};
 use std::sync::Arc;
@@ -30,21 +30,26 @@ pub struct IkController {
 }
 
 impl IkController {
-    /// The stack at the measured state (q, v), posture towards `q_posture`.
+    /// The stack for `robot`'s two feet and waist at the measured state (q, v), posture
+    /// towards `q_posture`.
     pub fn new(
-        model: Arc<Model>,
+        robot: &Robot,
         gains: IkGainsFile,
         dt: f64,
         q: &DVector<f64>,
         q_posture: &DVector<f64>,
     ) -> Result<Self> {
         gains.check()?;
+        let model = robot.model.clone();
+        let [left, right] = super::two_feet(robot)?;
+        let waist = &model.frames[robot.base].name;
         let mut state = RobotState::new(&model);
         let v0 = DVector::zeros(model.nv);
         state.update(&model, q.as_slice(), v0.as_slice())?;
         let frames = StackFrames {
-            waist: TALOS_WAIST,
-            ..StackFrames::TALOS
+            left_foot: &left.frame_name,
+            right_foot: &right.frame_name,
+            waist,
         };
         let g = IkGains {
             contacts: gains.contacts,
@@ -54,10 +59,8 @@ impl IkController {
             posture: gains.posture,
         };
         let ik = InverseKinematics::standing_stack(&model, &state, dt, &frames, &g, q_posture)?;
-        let waist_rotation0 = state
-            .frame_placement(&model, model.frame_id(TALOS_WAIST)?)?
-            .rotation;
-        let na = model.nv - 6;
+        let waist_rotation0 = state.frame_placement(&model, robot.base)?.rotation;
+        let na = model.na();
         Ok(Self {
             ik,
             state,
@@ -123,7 +126,7 @@ impl WholeBodyController for IkController {
         };
         if let Command::Position { q_ref, v_ref } = &mut self.command {
             q_ref.copy_from(&self.q_des);
-            v_ref.copy_from(&self.v_des.rows(6, model.nv - 6));
+            v_ref.copy_from(&self.v_des.rows(model.first_actuated(), model.na()));
         }
         reason
     }

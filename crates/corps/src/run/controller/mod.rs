@@ -9,7 +9,7 @@ mod tsid;
 
 pub use ik::IkController;
 pub use stabilized::{behind_stabilizer, Stabilized};
-pub use tsid::{TsidController, TsidMode, TALOS_SOLES, TALOS_WAIST};
+pub use tsid::{TsidController, TsidMode};
 
 use super::motion::Targets;
 use corps_control::stabilizer::{StabilizerOutput, Wrench};
@@ -17,6 +17,18 @@ use corps_control::FallbackReason;
 use corps_sim::Command;
 use nalgebra::{Isometry3, Vector2, Vector3};
 use serde::Deserialize;
+
+/// The robot's two feet, left then right, or an error: these controllers balance bipeds.
+pub fn two_feet(robot: &corps_robot::Robot) -> anyhow::Result<[&corps_robot::Foot; 2]> {
+    match robot.feet.as_slice() {
+        [left, right] => Ok([left, right]),
+        feet => anyhow::bail!(
+            "robot '{}' has {} feet: the whole-body controllers of corps run balance a biped (two feet, left first)",
+            robot.name,
+            feet.len()
+        ),
+    }
+}
 
 /// `[controller] kind`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
@@ -28,6 +40,15 @@ pub enum ControllerKind {
 }
 
 impl ControllerKind {
+    /// The name in scenario files and of the robot description's gains (`tsid_torque`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ControllerKind::IkPosition => "ik_position",
+            ControllerKind::TsidPosition => "tsid_position",
+            ControllerKind::TsidTorque => "tsid_torque",
+        }
+    }
+
     pub fn label(self) -> &'static str {
         match self {
             ControllerKind::IkPosition => "IK (position)",

@@ -12,7 +12,7 @@ use super::{Measured, WholeBodyController};
 use crate::run::gains::StabilizerGains;
 use crate::run::motion::Targets;
 use corps_control::stabilizer::{
-    ContactPhase, Stabilizer, StabilizerInput, StabilizerOutput, StabilizerSettings,
+    ContactPhase, Sole, Stabilizer, StabilizerInput, StabilizerOutput, StabilizerSettings,
 };
 use corps_control::{ControlError, FallbackReason};
 use corps_sim::Command;
@@ -63,23 +63,34 @@ impl ComTracking for super::TsidController {
 pub fn behind_stabilizer<C: WholeBodyController + ComTracking + 'static>(
     inner: C,
     gains: Option<&StabilizerGains>,
+    foot: &corps_robot::Foot,
     mass: f64,
     dt: f64,
 ) -> anyhow::Result<Box<dyn WholeBodyController>> {
     Ok(match gains {
-        Some(g) => Box::new(Stabilized::new(inner, g, mass, dt)?),
+        Some(g) => Box::new(Stabilized::new(inner, g, foot, mass, dt)?),
         None => Box::new(inner),
     })
 }
 
 impl<C: WholeBodyController + ComTracking> Stabilized<C> {
-    /// `inner` behind a stabilizer with gains `g` for a robot of `mass` kg at period `dt`.
-    pub fn new(inner: C, g: &StabilizerGains, mass: f64, dt: f64) -> anyhow::Result<Self> {
-        let mut s = StabilizerSettings {
-            mass,
-            dt,
-            ..StabilizerSettings::default()
-        };
+    /// `inner` behind a stabilizer with gains `g` for a robot of `mass` kg whose soles are
+    /// `foot`'s, at period `dt`.
+    pub fn new(
+        inner: C,
+        g: &StabilizerGains,
+        foot: &corps_robot::Foot,
+        mass: f64,
+        dt: f64,
+    ) -> anyhow::Result<Self> {
+        let s = foot.sole;
+        let sole = Sole::new(
+            g.sole_half_length.unwrap_or(s.front.min(s.back)),
+            g.sole_half_width.unwrap_or(s.left.min(s.right)),
+            foot.ankle_height,
+        );
+        let mut s = StabilizerSettings::new(mass, sole);
+        s.dt = dt;
         s.dcm.kp = g.dcm_kp;
         s.dcm.ki = g.dcm_ki;
         s.dcm.kz = g.dcm_kz;

@@ -49,18 +49,10 @@ use corps_control::tasks::{AngularMomentumTask, ComTask, PostureTask, Se3Referen
 use corps_control::{FallbackReason, RobotState};
 use corps_model::spatial::Motion;
 use corps_model::{integrate_to, Model};
+use corps_robot::Robot;
 use corps_sim::Command;
 use nalgebra::{DVector, Vector3, Vector6};
 use std::sync::Arc;
-
-/// Sole corners of TALOS' box feet in the sole frame (m): ±0.1 along x, ±0.065 along y, as in
-/// the TSID anchor harness.
-pub const TALOS_SOLE_CORNERS: [(f64, f64); 4] =
-    [(0.1, 0.065), (0.1, -0.065), (-0.1, 0.065), (-0.1, -0.065)];
-/// TALOS' sole frames, left then right.
-pub const TALOS_SOLES: [&str; 2] = ["leg_left_sole_fix_joint", "leg_right_sole_fix_joint"];
-/// TALOS' waist (base) frame.
-pub const TALOS_WAIST: &str = "base_link";
 
 /// Torque or position output.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -97,10 +89,11 @@ pub struct TsidController {
 }
 
 impl TsidController {
-    /// The controller for `model` at the measured state (q, v): CoM, posture (towards
-    /// `q_posture`), angular momentum, optional waist orientation, both soles in contact.
+    /// The controller for `robot` at the measured state (q, v): CoM, posture (towards
+    /// `q_posture`), angular momentum, optional waist orientation, both soles in contact
+    /// (contact points at the description's sole corners).
     pub fn new(
-        model: Arc<Model>,
+        robot: &Robot,
         mode: TsidMode,
         gains: TsidGains,
         dt: f64,
@@ -115,8 +108,10 @@ impl TsidController {
                  stay in the friction pyramids"
             );
         }
+        let model = robot.model.clone();
+        let soles = super::two_feet(robot)?;
         let nv = model.nv;
-        let na = nv - 6;
+        let na = model.na();
         let mut state = RobotState::new(&model);
         state.update(&model, q.as_slice(), v.as_slice())?;
         let mut id = InverseDynamics::new(&model);
@@ -135,7 +130,7 @@ impl TsidController {
         ));
         let (mut waist, mut waist_rotation0) = (None, nalgebra::Matrix3::identity());
         if let Some(w) = &g.waist {
-            let frame = model.frame_id(TALOS_WAIST)?;
+            let frame = robot.base;
             let mut task = Se3Task::new(
                 nv,
                 frame,
@@ -151,13 +146,13 @@ impl TsidController {
         let c = &g.contacts;
         let contact_kd = c.kd.unwrap_or(2.0 * c.kp.sqrt());
         let mut feet = Vec::with_capacity(2);
-        for name in TALOS_SOLES {
-            let frame = model.frame_id(name)?;
+        for foot in soles {
+            let frame = foot.frame;
             let mut contact = Contact::new(
                 &model,
-                name,
+                &foot.frame_name,
                 frame,
-                TALOS_SOLE_CORNERS.map(|(x, y)| Vector3::new(x, y, 0.0)),
+                foot.corners,
                 Vector3::z(),
                 c.mu,
                 (c.fmin, c.fmax),
@@ -175,14 +170,17 @@ impl TsidController {
             });
         }
         if g.actuation_bounds {
-            let limit = model.effort_limit.rows(6, na).into_owned();
+            let limit = model
+                .effort_limit
+                .rows(model.first_actuated(), na)
+                .into_owned();
             id.actuation = Some((-&limit, limit));
         }
         let command = match mode {
             TsidMode::Torque => Command::Torque(DVector::zeros(na)),
             TsidMode::Position => Command::Position {
                 q_ref: q.clone(),
-                v_ref: v.rows(6, na).into_owned(),
+                v_ref: v.rows(model.first_actuated(), na).into_owned(),
             },
         };
         let [left, right]: [Foot; 2] = feet
@@ -332,7 +330,7 @@ impl WholeBodyController for TsidController {
                 }
                 if let Command::Position { q_ref, v_ref } = &mut self.command {
                     q_ref.copy_from(&self.q_int);
-                    v_ref.copy_from(&self.v_int.rows(6, model.nv - 6));
+                    v_ref.copy_from(&self.v_int.rows(model.first_actuated(), model.na()));
                 }
                 reason
             }

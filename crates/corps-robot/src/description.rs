@@ -1,0 +1,172 @@
+//! The robot description file's schema: what corps needs to know about a robot beyond its
+//! URDF/SRDF. Unknown keys are errors; paths are relative to the description file.
+//!
+//! ```toml
+//! name = "talos"
+//! urdf = "robots/talos_reduced_box.urdf"
+//! srdf = "srdf/talos.srdf"
+//! posture = "half_sitting"          # an SRDF group_state: the reference posture
+//! base = "base_link"                # the waist frame (orientation task, pushes)
+//!
+//! [[feet]]
+//! label = "left"
+//! frame = "leg_left_sole_fix_joint" # origin on the sole surface, z = contact normal
+//! sole = { front = 0.1, back = 0.1, left = 0.065, right = 0.065 }
+//! force_torque = "left_ankle"
+//!
+//! [[sensors.force_torque]]
+//! name = "left_ankle"
+//! frame = "leg_left_sole_fix_joint"
+//!
+//! [gains]                            # controller kind -> gains file
+//! tsid_torque = "../../config/talos/tsid_torque.toml"
+//! ```
+
+use crate::fall::Criteria;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// A robot description (`robots/<robot>/<robot>.toml`).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Description {
+    /// Short name (`talos`), used in messages and output.
+    pub name: String,
+    /// The URDF, relative to this file. Its collision primitives are the simulator's contact
+    /// geometry (meshes are not used).
+    pub urdf: PathBuf,
+    /// The SRDF with the reference posture, relative to this file.
+    pub srdf: Option<PathBuf>,
+    /// The reference posture: a `group_state` of the SRDF.
+    pub posture: String,
+    /// The waist (base) frame: the orientation task's frame and where pushes usually land.
+    pub base: String,
+    /// Turn the posture's base so that the soles' mean normal points up (for an SRDF posture
+    /// whose feet are not flat on the ground). Default false: the posture as the SRDF gives it.
+    #[serde(default)]
+    pub level_posture: bool,
+    /// Extra frames the URDF lacks (a sole frame, a hand's tool point).
+    #[serde(default)]
+    pub frames: Vec<FrameSpec>,
+    /// Smallest principal moment of inertia of a body (kg·m²): a body whose URDF inertia is
+    /// smaller (some URDFs give zero) gets its principal moments raised to it, so that the
+    /// dynamics stay regular. Absent: the URDF's inertias as they are.
+    pub inertia_floor: Option<f64>,
+    /// Links whose URDF collision shapes the simulator ignores (a placeholder shape, a body
+    /// that must not touch the ground).
+    #[serde(default)]
+    pub ignore_collisions: Vec<String>,
+    /// The feet, in the order the controllers and logs use (left first).
+    pub feet: Vec<FootSpec>,
+    /// The hands (end effectors for manipulation and teleoperation).
+    #[serde(default)]
+    pub hands: Vec<HandSpec>,
+    #[serde(default)]
+    pub sensors: SensorsSpec,
+    /// Gains files by name (a controller kind, or another set a scenario can name), relative
+    /// to this file.
+    #[serde(default)]
+    pub gains: BTreeMap<String, PathBuf>,
+    /// Joint limits replacing or completing the URDF's.
+    #[serde(default)]
+    pub limits: LimitsSpec,
+    /// When a run of this robot counts as fallen or diverged (absent keys: corps' defaults).
+    #[serde(default)]
+    pub fall: Criteria,
+}
+
+/// A frame added to the model, rigidly attached to an existing frame.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FrameSpec {
+    pub name: String,
+    /// The frame it is attached to.
+    pub parent: String,
+    /// Position in the parent frame (m).
+    #[serde(default)]
+    pub translation: [f64; 3],
+    /// Orientation in the parent frame, roll-pitch-yaw (rad), as URDF's `rpy`.
+    #[serde(default)]
+    pub rpy: [f64; 3],
+}
+
+/// A foot: its sole frame, sole rectangle and sensors.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FootSpec {
+    /// `left` or `right` for a biped (names columns and plots).
+    pub label: String,
+    /// The sole frame: origin on the sole surface, z the contact normal, x forward.
+    pub frame: String,
+    /// The contact rectangle in the sole frame: the controllers' contact points.
+    pub sole: SoleSpec,
+    /// The force/torque sensor that measures this foot's contact wrench (a name of
+    /// `[[sensors.force_torque]]`).
+    pub force_torque: Option<String>,
+    /// Ankle pitch and roll joints (gait measures); absent: the joint that moves the sole and
+    /// the one before it.
+    pub ankle: Option<[String; 2]>,
+    /// Where the simulator's contact comes from: `urdf` (the foot body's collision
+    /// primitives, the default) or `sole_box` (a thin box on the sole rectangle, for URDFs
+    /// whose feet have only meshes).
+    #[serde(default)]
+    pub contact: FootContact,
+}
+
+/// The sole rectangle: distances from the sole frame's origin to its four edges (m).
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SoleSpec {
+    pub front: f64,
+    pub back: f64,
+    pub left: f64,
+    pub right: f64,
+}
+
+/// The simulator's contact geometry of a foot.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum FootContact {
+    #[default]
+    Urdf,
+    SoleBox,
+}
+
+/// A hand.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct HandSpec {
+    pub label: String,
+    pub frame: String,
+    /// Its force/torque sensor, a name of `[[sensors.force_torque]]`.
+    pub force_torque: Option<String>,
+}
+
+/// `[sensors]`: force/torque sensors and the IMU.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SensorsSpec {
+    #[serde(default)]
+    pub force_torque: Vec<ForceTorqueSpec>,
+    /// The IMU's frame; absent: the root body.
+    pub imu: Option<String>,
+}
+
+/// A six-axis force/torque sensor, measuring in `frame`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ForceTorqueSpec {
+    pub name: String,
+    pub frame: String,
+}
+
+/// `[limits]`: per-joint values replacing the URDF's (N·m or N; rad/s or m/s).
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LimitsSpec {
+    #[serde(default)]
+    pub effort: BTreeMap<String, f64>,
+    #[serde(default)]
+    pub velocity: BTreeMap<String, f64>,
+}
