@@ -70,7 +70,7 @@ mod tests {
     /// the uncorrected one (|d|).
     #[test]
     fn cancels_a_step_zmp_error() {
-        let p = PreviewParams::talos();
+        let p = crate::test_fixtures::talos_preview();
         let mut f = DynamicFilter::new(&p).unwrap();
         let n = f.horizon();
         let d = |t: f64| if t >= 2.0 { 0.02 } else { 0.0 };

@@ -570,7 +570,7 @@ impl FootstepPlan {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::support_polygon::{ConvexPolygon, FootGeometry};
+    use crate::support_polygon::ConvexPolygon;
 
     #[test]
     fn com_ground_climbs_each_stair_smoothly_over_a_step_period() {
@@ -645,7 +645,7 @@ mod tests {
         // second step: the left swings, right support, code −1
         assert_eq!(plan.phase_at(ti + 0.8 + 0.1).code(), -1);
         // the ZMP reference is continuous and always inside the support polygon of the phase
-        let g = FootGeometry::TALOS;
+        let g = crate::test_fixtures::TALOS_SOLE;
         let mut prev = plan.sample(0.0).zmp;
         let mut t = 0.0;
         while t < plan.duration() + 1.0 {

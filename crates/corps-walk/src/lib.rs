@@ -25,7 +25,10 @@
 //!
 //! // seed 000 S5: six 20 cm steps plus a closing step, SS 0.9 s / DS 0.115 s
 //! let plan = FootstepPlan::straight(6, 0.2, 0.162, Foot::Left, StepTiming::seed000_nominal())?;
-//! let mut walk = PreviewWalk::new(plan, PreviewParams::talos())?;
+//! // TALOS' CoM height on jrl-walkgen (seed 002 §4.4), Kajita's weights and 1.6 s preview
+//! let mut params = PreviewParams::kajita2003();
+//! params.lipm = corps_walk::lipm::Lipm::new(0.876681, 9.81)?;
+//! let mut walk = PreviewWalk::new(plan, params)?;
 //! while !walk.finished() {
 //!     let r = walk.step()?; // one 5 ms sample: r.com, r.zmp, r.left_foot, r.phase, …
 //!     assert!((r.zmp.xy() - walk.plan().sample(walk.plan_time(r.time)).zmp.xy()).norm() < 0.1);
@@ -38,7 +41,10 @@
 //! ```
 //! use corps_walk::mpc::{MpcParams, VelocityCommand, WalkingMpc};
 //!
-//! let mut mpc = WalkingMpc::new(MpcParams::default(), 0.0, 0.0, 0.0)?;
+//! // TALOS' settings (seed 002 §4.4), from its configuration file
+//! let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../config/talos/walk_mpc.toml")).unwrap();
+//! let params: MpcParams = toml::from_str(&text).unwrap();
+//! let mut mpc = WalkingMpc::new(params, 0.0, 0.0, 0.0)?;
 //! for tick in 0..400 {
 //!     // the command may change at any tick (teleop, planner)
 //!     let cmd = VelocityCommand::new(0.1, 0.0, if tick > 200 { 0.05 } else { 0.0 });
@@ -71,3 +77,11 @@ pub use pose::{waist_yaw, Foot, FootPose, FootVelocity};
 pub use reference::{ContactPhase, WalkingReference};
 pub use support_polygon::{ConvexPolygon, FootGeometry};
 pub use swing_foot::{Quintic, SwingTrajectory};
+
+/// TALOS' walking settings for the crate's unit tests (shared with the integration tests,
+/// which name the crate `corps_walk`).
+#[cfg(test)]
+extern crate self as corps_walk;
+#[cfg(test)]
+#[path = "../tests/common/talos.rs"]
+mod test_fixtures;

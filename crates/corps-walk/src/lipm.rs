@@ -19,11 +19,9 @@ use nalgebra::{Matrix3, RowVector3, Vector3};
 /// `z_c = 0.876681`).
 pub const GRAVITY: f64 = 9.81;
 
-/// TALOS CoM height used by jrl-walkgen in seed 002 (`:comheight 0.876681`, seed 002 §4.4).
-pub const TALOS_COM_HEIGHT: f64 = 0.876681;
-
 /// A linear inverted pendulum: CoM height above the ground and gravity.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Lipm {
     /// CoM height `z_c` above the ground plane (m), > 0.
     pub com_height: f64,
@@ -135,7 +133,7 @@ mod tests {
     #[test]
     fn omega_matches_seed_002() {
         // seed 002 §2: ω = 3.345 rad/s with g = 9.81, c_z = 0.876681 (3 decimals printed).
-        let l = Lipm::new(TALOS_COM_HEIGHT, GRAVITY).unwrap();
+        let l = Lipm::new(crate::test_fixtures::TALOS_COM_HEIGHT, GRAVITY).unwrap();
         assert!((l.omega() - 3.345).abs() < 5e-4, "{}", l.omega());
         assert!(Lipm::new(0.0, 9.81).is_err());
         assert!(Lipm::new(0.8, f64::NAN).is_err());

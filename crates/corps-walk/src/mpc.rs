@@ -49,7 +49,7 @@
 //! support foot at the double-support feet distance, then the ZMP moves to the middle of the
 //! feet and the robot stands. A non-zero command from standing starts walking.
 
-use crate::lipm::{jerk_integrator, Lipm, GRAVITY, TALOS_COM_HEIGHT};
+use crate::lipm::{jerk_integrator, Lipm};
 use crate::pose::{angle_difference, rotation, wrap_angle, Foot, FootPose, FootVelocity};
 use crate::reference::{ContactPhase, WalkingReference};
 use crate::support_polygon::FootGeometry;
@@ -64,7 +64,8 @@ pub const N_FOOTSTEPS: usize = 2;
 /// Reachable region of a footstep in the frame of the previous footprint: `x ∈ [x_min, x_max]`
 /// and `y ∈ [y_min, y_max]` for a left foot landing (left of a right footprint), mirrored for
 /// a right foot.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ReachableRegion {
     /// Most backward step (m).
     pub x_min: f64,
@@ -76,8 +77,10 @@ pub struct ReachableRegion {
     pub y_max: f64,
 }
 
-/// Parameters of the MPC.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Parameters of the MPC: a robot's settings, read from its configuration file (TALOS':
+/// `config/talos/walk_mpc.toml`, seed 002 §4.4; unknown keys are errors).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct MpcParams {
     /// The pendulum (TALOS: `z_c = 0.876681`, seed 002 §4.4).
     pub lipm: Lipm,
@@ -116,43 +119,6 @@ pub struct MpcParams {
     /// 0.2 s transfer (starting 8 cm off the support foot it would diverge by
     /// 0.032 · cosh(ω · 1.0 s) ≈ 0.45 m during the swing).
     pub start_double_support: f64,
-}
-
-impl Default for MpcParams {
-    /// TALOS on jrl-walkgen's settings of seed 002 §4.4. The reachable region (not given by
-    /// the documents) spans −0.3…0.4 m forward, which covers the 0.3 m/s saturation × 1.2 s
-    /// step = 0.36 m, and 0.162…0.362 m sideways: the double-support distance plus the 20 cm
-    /// lateral steps TALOS made in seed 000 §4 (L500). Relative footprint yaw ≤ 0.35 rad and a
-    /// landing frozen during the last 0.1 s of the swing (one horizon sample) are our choices.
-    fn default() -> Self {
-        Self {
-            lipm: Lipm {
-                com_height: TALOS_COM_HEIGHT,
-                gravity: GRAVITY,
-            },
-            sample_period: 0.1,
-            horizon: 16,
-            control_period: 0.005,
-            single_support: 1.0,
-            double_support: 0.2,
-            alpha: 5.0,
-            beta: 1e3,
-            gamma: 5e-4,
-            zmp_rectangle: FootGeometry::TALOS_WPG,
-            reachable: ReachableRegion {
-                x_min: -0.3,
-                x_max: 0.4,
-                y_min: 0.162,
-                y_max: 0.362,
-            },
-            feet_distance: 0.162,
-            max_speed: 0.3,
-            max_relative_yaw: 0.35,
-            freeze_time: 0.1,
-            swing_height: 0.05,
-            start_double_support: 1.2,
-        }
-    }
 }
 
 /// Velocity command `(v_x, v_y, ω)` in the robot (waist) frame, REP-103 signs (seed 002
@@ -1306,7 +1272,7 @@ mod tests {
     /// the ZMP lies on `z_centre` at every sample and the step closes periodically.
     #[test]
     fn nominal_gait_tracks_the_support_centres() {
-        let p = MpcParams::default();
+        let p = crate::test_fixtures::talos_mpc();
         let (t, ds) = (p.sample_period, p.double_support);
         let h = p.lipm.com_height / p.lipm.gravity;
         let g = NominalGait::new(t, 12, ds, h).unwrap();

@@ -54,18 +54,6 @@ impl PreviewParams {
             horizon: 320,
         }
     }
-
-    /// TALOS on jrl-walkgen's settings (seed 002 §4.4): `z_c = 0.876681`, `g = 9.81`,
-    /// `T = 5 ms`, a 1.6 s preview (`:previewcontroltime 1.6`), with Kajita's weights.
-    pub fn talos() -> Self {
-        Self {
-            lipm: Lipm {
-                com_height: crate::lipm::TALOS_COM_HEIGHT,
-                gravity: crate::lipm::GRAVITY,
-            },
-            ..Self::kajita2003()
-        }
-    }
 }
 
 /// Preview-control gains.

@@ -13,7 +13,8 @@ pub const MAX_VERTICES: usize = 16;
 
 /// A rectangular sole, given by the distances from the foot frame origin to its four edges,
 /// in the foot frame (x forward, y left).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct FootGeometry {
     /// Distance to the front (toe) edge, m.
     pub front: f64,
@@ -26,24 +27,6 @@ pub struct FootGeometry {
 }
 
 impl FootGeometry {
-    /// TALOS sole about the ankle projection: `lxp = 0.10`, `lxn = 0.11`, `lyp = lyn = 0.069`
-    /// (seed 000 §2, from talos-torque-control `balance_ctrl_sim_conf.py`).
-    pub const TALOS: FootGeometry = FootGeometry {
-        front: 0.10,
-        back: 0.11,
-        left: 0.069,
-        right: 0.069,
-    };
-
-    /// The ZMP rectangle jrl-walkgen uses for TALOS (`:setfeetconstraint XY 0.091 0.0489`,
-    /// half-sizes about the foot centre; seed 002 §2 and §4.4).
-    pub const TALOS_WPG: FootGeometry = FootGeometry {
-        front: 0.091,
-        back: 0.091,
-        left: 0.0489,
-        right: 0.0489,
-    };
-
     /// A rectangle centred on the foot frame with the given half length and half width.
     pub fn centered(half_length: f64, half_width: f64) -> Self {
         Self {
@@ -185,7 +168,7 @@ mod tests {
 
     #[test]
     fn talos_sole_rectangle() {
-        let g = FootGeometry::TALOS;
+        let g = crate::test_fixtures::TALOS_SOLE;
         let poly = ConvexPolygon::foot(&FootPose::new(1.0, 2.0, 0.0, 0.0), &g);
         assert_eq!(poly.vertices().len(), 4);
         assert!((poly.area() - 0.21 * 0.138).abs() < 1e-12);
@@ -225,7 +208,7 @@ mod tests {
             x in -0.5f64..0.5, y in -0.5f64..0.5, yaw in -3.2f64..3.2,
             lx in 0.0f64..0.3, ly in -0.3f64..0.3, lyaw in -1.0f64..1.0,
         ) {
-            let g = FootGeometry::TALOS;
+            let g = crate::test_fixtures::TALOS_SOLE;
             let r = FootPose::new(0.0, 0.0, 0.0, yaw);
             let l = FootPose::new(lx, ly, 0.0, lyaw);
             let poly = ConvexPolygon::double_support(&l, &r, &g);

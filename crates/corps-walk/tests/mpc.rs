@@ -2,15 +2,19 @@
 //! 5 ms, re-plan (seed 002 §6 scenarios S2–S6). The plant is a separate LIPM integrated with the
 //! applied jerk and fed back through `set_com_state`.
 
+mod common {
+    pub mod talos;
+}
+
 use corps_walk::lipm::jerk_integrator;
-use corps_walk::mpc::{MpcParams, VelocityCommand, WalkingMpc};
-use corps_walk::{waist_yaw, ContactPhase, ConvexPolygon, FootGeometry, WalkingReference};
+use corps_walk::mpc::{VelocityCommand, WalkingMpc};
+use corps_walk::{waist_yaw, ContactPhase, ConvexPolygon, WalkingReference};
 use nalgebra::Vector3;
 
 /// Worst signed distance of the ZMP to the support polygon (TALOS soles) of the reference's
 /// phase.
 fn zmp_margin(r: &WalkingReference) -> f64 {
-    let sole = FootGeometry::TALOS;
+    let sole = common::talos::TALOS_SOLE;
     let poly = match r.phase {
         ContactPhase::Double => ConvexPolygon::double_support(&r.left_foot, &r.right_foot, &sole),
         ContactPhase::LeftSupport => ConvexPolygon::foot(&r.left_foot, &sole),
@@ -74,7 +78,7 @@ const LOOSE_SPEED_TOL: f64 = 0.10;
 const TWO_CYCLES: f64 = 4.8;
 
 fn new_mpc() -> WalkingMpc {
-    WalkingMpc::new(MpcParams::default(), 0.0, 0.0, 0.0).unwrap()
+    WalkingMpc::new(common::talos::talos_mpc(), 0.0, 0.0, 0.0).unwrap()
 }
 
 /// Seed 002 S2: (0.1, 0, 0) for 10 s; ZMP inside the TALOS sole polygon at every 5 ms tick

@@ -1,16 +1,19 @@
 //! Closed-loop preview-control walks on the LIPM (robot-free, as in CCC's
 //! TestPreviewControlZmp; anchors §4.3 "Robot-free closed-loop tests").
 
-use corps_walk::preview_control::PreviewParams;
+mod common {
+    pub mod talos;
+}
+
 use corps_walk::preview_walk::PreviewWalk;
-use corps_walk::{ContactPhase, ConvexPolygon, Foot, FootGeometry, FootstepPlan, StepTiming};
+use corps_walk::{ContactPhase, ConvexPolygon, Foot, FootstepPlan, StepTiming};
 
 /// Walks `plan` to the end plus 3 s; returns (max |ZMP − ZMP_ref|, max signed distance of the
 /// ZMP to the support polygon, final CoM error to the middle of the feet, final CoM speed).
 fn walk(plan: FootstepPlan) -> (f64, f64, f64, f64) {
-    let params = PreviewParams::talos();
+    let params = common::talos::talos_preview();
     let mut g = PreviewWalk::new(plan.clone(), params).unwrap();
-    let sole = FootGeometry::TALOS;
+    let sole = common::talos::TALOS_SOLE;
     let (mut max_err, mut max_out) = (0.0f64, f64::NEG_INFINITY);
     let mut last = None;
     while g.plan_time(g.time()) < plan.duration() + 3.0 {
@@ -84,12 +87,12 @@ fn preview_control_climbs_stairs() {
         StepTiming::seed000_nominal(),
     )
     .unwrap();
-    let mut g = PreviewWalk::new(plan.clone(), PreviewParams::talos()).unwrap();
+    let mut g = PreviewWalk::new(plan.clone(), common::talos::talos_preview()).unwrap();
     let mut r = g.step().unwrap();
     while g.plan_time(g.time()) < plan.duration() + 3.0 {
         r = g.step().unwrap();
     }
-    assert!((r.com.z - (0.6 + PreviewParams::talos().lipm.com_height)).abs() < 1e-12);
+    assert!((r.com.z - (0.6 + common::talos::talos_preview().lipm.com_height)).abs() < 1e-12);
     let (err, out, _, _) = walk(plan);
     assert!(err < 0.1 && out <= 0.0);
 }
@@ -102,7 +105,7 @@ fn sliding_preview_window_matches_a_fresh_window_every_tick() {
     use corps_walk::preview_control::{PreviewAxis, PreviewController};
     let plan =
         FootstepPlan::straight(6, 0.2, 0.162, Foot::Right, StepTiming::seed000_nominal()).unwrap();
-    let params = PreviewParams::talos();
+    let params = common::talos::talos_preview();
     let mut g = PreviewWalk::new(plan.clone(), params).unwrap();
     let ctrl = PreviewController::with_integral(&params).unwrap();
     let start = plan.sample(0.0).zmp;
@@ -131,7 +134,7 @@ fn sliding_preview_window_matches_a_fresh_window_every_tick() {
 fn a_walk_starting_off_centre_starts_where_the_robot_stands() {
     let plan =
         FootstepPlan::straight(6, 0.2, 0.162, Foot::Right, StepTiming::seed000_nominal()).unwrap();
-    let mut g = PreviewWalk::new(plan.clone(), PreviewParams::talos())
+    let mut g = PreviewWalk::new(plan.clone(), common::talos::talos_preview())
         .unwrap()
         .starting_at(0.027, -0.004);
     let first = g.step().unwrap();

@@ -525,9 +525,12 @@ pub fn run_scenario(
     let (com0, _, feet0) = com_and_soles(&sim, &soles)?;
     let ticks = (scenario.duration / dt).round() as usize;
     let mut plan = MotionPlan::new(
+        &robot,
         scenario.motion.clone(),
-        com0,
-        feet0,
+        motion::Handover {
+            com: com0,
+            feet: feet0,
+        },
         dt,
         scenario.duration,
         base_dir,

@@ -225,18 +225,29 @@ pub struct MotionPlan {
     com_file: Option<Sampled>,
 }
 
+/// Where the robot stands when the controller takes over: its CoM and soles.
+#[derive(Clone, Copy, Debug)]
+pub struct Handover {
+    pub com: Vector3<f64>,
+    pub feet: [Se3; 2],
+}
+
 impl MotionPlan {
-    /// The motion for a run of `duration` s at control period `dt` over `terrain`; files are
-    /// read relative to `base_dir`.
+    /// The motion of `robot` from `handover` for a run of `duration` s at control period `dt`
+    /// over `terrain`; files are read relative to `base_dir`.
     pub fn new(
+        robot: &corps_robot::Robot,
         section: MotionSection,
-        com0: Vector3<f64>,
-        feet0: [Se3; 2],
+        handover: Handover,
         dt: f64,
         duration: f64,
         base_dir: &std::path::Path,
         terrain: &Terrain,
     ) -> anyhow::Result<Self> {
+        let Handover {
+            com: com0,
+            feet: feet0,
+        } = handover;
         let com_file = match &section {
             MotionSection::ComFile { path } => {
                 let path = base_dir.join(path);
@@ -260,9 +271,9 @@ impl MotionPlan {
             MotionSection::Walk(w) => {
                 Some(WalkMotion::new(w, &feet0, &com0, dt, duration, terrain)?)
             }
-            MotionSection::Velocity(v) => {
-                Some(WalkMotion::velocity(v, &feet0, com_height, dt, duration)?)
-            }
+            MotionSection::Velocity(v) => Some(WalkMotion::velocity(
+                robot, v, &feet0, com_height, dt, duration,
+            )?),
             _ => None,
         };
         Ok(Self {
@@ -402,10 +413,14 @@ mod tests {
 
     fn plan(section: MotionSection) -> MotionPlan {
         let foot = |y: f64| Se3::new(nalgebra::Matrix3::identity(), Vector3::new(0.0, y, 0.0));
+        let talos = corps_robot::Robot::built_in("talos").unwrap().unwrap();
         MotionPlan::new(
+            &talos,
             section,
-            Vector3::new(0.0, 0.0, 0.88),
-            [foot(0.1), foot(-0.1)],
+            Handover {
+                com: Vector3::new(0.0, 0.0, 0.88),
+                feet: [foot(0.1), foot(-0.1)],
+            },
             1e-3,
             10.0,
             std::path::Path::new("."),

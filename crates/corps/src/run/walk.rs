@@ -289,17 +289,24 @@ impl WalkMotion {
     /// Runs the MPC on the commands of `v` for `duration` s, re-planning every `dt`, from the
     /// soles `feet0` with the CoM at height `com_height` above them.
     pub fn velocity(
+        robot: &corps_robot::Robot,
         v: &VelocitySection,
         feet0: &[Se3; 2],
         com_height: f64,
         dt: f64,
         duration: f64,
     ) -> Result<Self> {
+        // The robot's MPC settings (`walk_mpc` of its description's [gains]).
+        let file = robot
+            .gains("walk_mpc")
+            .map_err(|e| anyhow::anyhow!("motion: {e}"))?;
+        let settings: MpcParams = corps_robot::toml_text::parse(&file.text)
+            .map_err(|e| anyhow::anyhow!("motion: {}: {e}", file.shown))?;
         let params = MpcParams {
             lipm: Lipm::new(com_height, super::GRAVITY).context("motion: LIPM")?,
             control_period: dt,
             feet_distance: (feet0[0].translation - feet0[1].translation).xy().norm(),
-            ..MpcParams::default()
+            ..settings
         };
         let release = v.release.unwrap_or(params.double_support);
         let mut mpc = WalkingMpc::new(params, 0.0, 0.0, 0.0).context("motion: MPC")?;
