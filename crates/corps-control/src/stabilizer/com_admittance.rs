@@ -15,9 +15,10 @@ pub struct ComAdmittanceSettings {
     /// `K_adm` [s⁻²] on x and y. Default 15 (seed 000 Table 4.3, IK 20 cm walk; seed 002 §4.8
     /// reference script). TSID-position uses 12, the IK on stairs 45.
     pub gain: f64,
-    /// Bound on each horizontal component of `c* − c_ref` [m]. Default 0.05 m (our choice:
-    /// half the TALOS sole half-length of 0.10 m, seed 002 §2; the admittance moves the CoM
-    /// reference by 2–5 mm on flat ground, seed 002 §5 item 9, and by a few cm after a push).
+    /// Bound on each horizontal component of `c* − c_ref` [m]. Our choice: half the sole's
+    /// half-length, which [`super::StabilizerSettings::new`] sets from the robot's sole (TALOS:
+    /// 0.05 m of 0.10 m, seed 002 §2; the admittance moves the CoM reference by 2–5 mm on flat
+    /// ground, seed 002 §5 item 9, and by a few cm after a push). Default 0.05 m.
     pub max_offset: f64,
 }
 

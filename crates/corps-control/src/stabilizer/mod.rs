@@ -87,7 +87,10 @@ impl StabilizerSettings {
             gravity: 9.81,
             dt: 1e-3,
             dcm: DcmGains::default(),
-            com_admittance: ComAdmittanceSettings::default(),
+            com_admittance: ComAdmittanceSettings {
+                max_offset: sole.half_length / 2.0,
+                ..ComAdmittanceSettings::default()
+            },
             distribution: DistributionSettings::default(),
             ankle: AnkleAdmittanceSettings::default(),
             sole,
