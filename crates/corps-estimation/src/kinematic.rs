@@ -85,7 +85,7 @@ impl Default for EstimatorSettings {
             base: BaseSource::LegOdometry,
             contact_on: 30.0,
             contact_off: 15.0,
-            gravity: [0.0, 0.0, -9.81],
+            gravity: [0.0, 0.0, -corps_model::STANDARD_GRAVITY],
             velocity_fusion_time: 0.02,
             settle_share: 0.25,
             calibrate_foot_weight: false,

@@ -71,7 +71,7 @@ pub use error::{ModelError, Result};
 pub use frame::{Frame, FrameKind};
 pub use geometry::{CollisionGeometry, Shape};
 pub use joint::{Joint, JointKind};
-pub use model::{check_vector, Model};
+pub use model::{check_vector, Model, STANDARD_GRAVITY};
 pub use parse::{
     build_model_from_urdf_file, build_model_from_urdf_str, load_reference_configurations, RootJoint,
 };

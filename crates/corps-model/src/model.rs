@@ -7,6 +7,10 @@ use crate::joint::Joint;
 use crate::spatial::Inertia;
 use nalgebra::{DVector, Vector3};
 
+/// Gravity's magnitude every part of corps uses by default (m/s²; seed 000 §3.3 and seed 002
+/// §2 use 9.81). A model's `gravity` and a simulation's may differ; this is the one default.
+pub const STANDARD_GRAVITY: f64 = 9.81;
+
 /// A robot model. Built once (from URDF), then shared immutably by every part of a run;
 /// all mutable buffers live in [`crate::Data`].
 ///

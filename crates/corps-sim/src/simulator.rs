@@ -53,7 +53,7 @@ impl Default for SimSettings {
             substeps: 1,
             integrator: Integrator::Rk4,
             contact: ContactParams::default(),
-            gravity: [0.0, 0.0, -9.81],
+            gravity: [0.0, 0.0, -corps_model::STANDARD_GRAVITY],
         }
     }
 }

@@ -17,7 +17,7 @@ use nalgebra::{Matrix3, RowVector3, Vector3};
 
 /// Standard gravity used by default (seed 002 §2: `g = 9.81`, ω = 3.345 rad/s at
 /// `z_c = 0.876681`).
-pub const GRAVITY: f64 = 9.81;
+pub const GRAVITY: f64 = corps_model::STANDARD_GRAVITY;
 
 /// A linear inverted pendulum: CoM height above the ground and gravity.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Deserialize)]

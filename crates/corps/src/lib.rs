@@ -3,7 +3,9 @@
 //! command runs.
 
 pub mod default_robot;
+pub mod foot;
 pub mod interrupt;
+pub mod numbers;
 pub mod output;
 pub mod progress;
 pub mod run;

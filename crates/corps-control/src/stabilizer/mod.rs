@@ -84,7 +84,7 @@ impl StabilizerSettings {
     pub fn new(mass: f64, sole: Sole) -> Self {
         Self {
             mass,
-            gravity: 9.81,
+            gravity: corps_model::STANDARD_GRAVITY,
             dt: 1e-3,
             dcm: DcmGains::default(),
             com_admittance: ComAdmittanceSettings {

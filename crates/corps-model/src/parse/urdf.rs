@@ -554,7 +554,7 @@ impl<'a> TreeBuilder<'a> {
             upper_position_limit: DVector::from_vec(self.limits.upper),
             velocity_limit: DVector::from_vec(self.limits.velocity),
             effort_limit: DVector::from_vec(self.limits.effort),
-            gravity: Vector3::new(0.0, 0.0, -9.81),
+            gravity: Vector3::new(0.0, 0.0, -crate::STANDARD_GRAVITY),
             reference_configurations: Vec::new(),
             collisions: self.collisions,
             subtree_nv,

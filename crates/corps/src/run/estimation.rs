@@ -12,7 +12,7 @@
 //! settle_share = 0.25        # a landing foot anchors the odometry once it carries this share
 //! ```
 
-use crate::sim_cmd::setup::Foot;
+use crate::foot::Foot;
 use anyhow::{bail, Result};
 use corps_estimation::{
     BaseSource, Estimator, EstimatorSettings, FootSensor, KinematicEstimator, Readings,

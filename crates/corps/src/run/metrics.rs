@@ -380,7 +380,7 @@ pub struct Metrics {
     /// end of the run; printed and written from here).
     pub against_thesis: Vec<Comparison>,
     /// What fed the controller, and the readings it could not use (the estimate was held).
-    pub estimator: super::EstimatorKind,
+    pub estimator: super::estimation::EstimatorKind,
     /// The sensors' noise: `noiseless`, the scenario's `[noise]`, or a profile's file.
     pub sensor_noise: String,
     /// How far the controller's estimate was from the simulator's state.
@@ -544,8 +544,12 @@ impl fmt::Display for Metrics {
             )?;
         }
         let source = match self.estimator {
-            super::EstimatorKind::LegOdometry => "leg odometry + IMU + ankle F/T (the sensors)",
-            super::EstimatorKind::GroundTruth => "ground truth (the simulator's exact state)",
+            super::estimation::EstimatorKind::LegOdometry => {
+                "leg odometry + IMU + ankle F/T (the sensors)"
+            }
+            super::estimation::EstimatorKind::GroundTruth => {
+                "ground truth (the simulator's exact state)"
+            }
         };
         let e = &self.estimate_error;
         writeln!(

@@ -21,19 +21,20 @@
 
 pub mod controller;
 pub mod dynamic_filter;
-mod estimation;
+pub(crate) mod estimation;
 pub mod gains;
 mod gait;
-mod metrics;
+pub(crate) mod metrics;
 pub mod motion;
 mod overlap;
 mod plot_buffer;
 mod plots;
 pub mod sensor_profile;
 mod stepper;
+pub mod targets;
 pub mod walk;
 
-pub use controller::{ControllerKind, WholeBodyController};
+pub use controller::{ControllerKind, ControllerSection, WholeBodyController, MAX_SETTLE};
 pub use estimation::{EstimatorKind, EstimatorSection};
 pub use metrics::{
     Comparison, DynamicFilterMetrics, FootMetrics, Metrics, Stat, ThesisFigures, TickTime,
@@ -52,57 +53,20 @@ use controller::{behind_stabilizer, IkController, Measured, TsidController, Tsid
 use corps_control::stabilizer::{StabilizerOutput, Wrench};
 use corps_loop::verdict::{TickSample, Verdict, VerdictObserver};
 use corps_model::spatial::Se3;
+use corps_model::STANDARD_GRAVITY as GRAVITY;
 use corps_model::{com_at_placements, frame_placement, Model};
 use corps_sim::Simulator;
 use motion::MotionPlan;
 use nalgebra::Vector3;
 use plot_buffer::PlotBuffer;
 use sensor_profile::SensorProfile;
-use serde::Deserialize;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 use stepper::Stepper;
 
-/// Standard gravity of the run's LIPM references (ZMP, walking) and cost of transport (m/s²).
-pub(crate) const GRAVITY: f64 = 9.81;
 /// Vertical force (N) below which the ZMP is not defined (the robot is in the air).
 const ZMP_MIN_FZ: f64 = corps_estimation::ZMP_MIN_FORCE;
-
-/// `[controller]`.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct ControllerSection {
-    pub kind: ControllerKind,
-    /// Gains: a name of the robot description's `[gains]` (`tsid_torque_walk`) or a file
-    /// relative to the scenario (absent: the robot's gains for the kind).
-    pub gains: Option<PathBuf>,
-    /// Time under the joint PD hold before the controller takes over (s).
-    #[serde(default = "half_second")]
-    pub settle: f64,
-    /// Values replacing the gains file's, e.g. `posture.weight = 1e-3`.
-    #[serde(default)]
-    pub set: toml::Table,
-}
-
-/// Longest settling time under the joint PD hold before the controller takes over (s).
-pub const MAX_SETTLE: f64 = 600.0;
-
-fn half_second() -> f64 {
-    0.5
-}
-
-impl ControllerSection {
-    pub fn check(&self) -> Result<(), String> {
-        if !(self.settle >= 0.0 && self.settle <= MAX_SETTLE) {
-            return Err(format!(
-                "controller.settle: must be a time in [0, {MAX_SETTLE}] s, got {}",
-                crate::sim_cmd::scenario::number(self.settle)
-            ));
-        }
-        Ok(())
-    }
-}
 
 /// Arguments of `corps run`.
 #[derive(Args)]

@@ -8,7 +8,7 @@
 //!   by the velocity-driven MPC of seed 002 §4.4, re-planned every control period
 //!   ([`VelocitySection`]).
 
-use super::motion::{positive, FootTarget, Side, Targets};
+use super::targets::{positive, FootTarget, Side, Targets};
 use anyhow::{Context, Result};
 use corps_control::trajectories::MinJerk;
 use corps_model::spatial::{Motion, Se3};
@@ -252,7 +252,8 @@ impl WalkMotion {
         let walking_height = w.com_height.unwrap_or(com_height);
         let mut params = PreviewParams::kajita2003();
         params.period = dt;
-        params.lipm = Lipm::new(walking_height, super::GRAVITY).context("motion: LIPM")?;
+        params.lipm =
+            Lipm::new(walking_height, corps_walk::lipm::GRAVITY).context("motion: LIPM")?;
         params.horizon = (1.6 / dt).round() as usize;
         let mut walk = PreviewWalk::new(plan, params)
             .context("motion: preview control")?
@@ -303,7 +304,7 @@ impl WalkMotion {
         let settings: MpcParams = corps_robot::toml_text::parse(&file.text)
             .map_err(|e| anyhow::anyhow!("motion: {}: {e}", file.shown))?;
         let params = MpcParams {
-            lipm: Lipm::new(com_height, super::GRAVITY).context("motion: LIPM")?,
+            lipm: Lipm::new(com_height, corps_walk::lipm::GRAVITY).context("motion: LIPM")?,
             control_period: dt,
             feet_distance: (feet0[0].translation - feet0[1].translation).xy().norm(),
             ..settings

@@ -3,7 +3,7 @@
 //! the measured sensor readings (noise and bias added) under a `meas_` prefix. The rows are
 //! streamed by [`crate::output::CsvLog`].
 
-use super::setup::Foot;
+use crate::foot::Foot;
 use corps_model::{JointKind, Model};
 use corps_sim::{first_actuated, Readings};
 use nalgebra::Vector3;

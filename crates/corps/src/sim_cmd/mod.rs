@@ -153,7 +153,12 @@ fn simulate(
     // the contact on bodies other than the feet (not judged when no foot is named).
     // Forces are judged in body weights; without gravity, in weights under standard gravity.
     let g = Vector3::from(scenario.sim.gravity).norm();
-    let weight = model.total_mass() * if g > 0.0 { g } else { 9.80665 };
+    let weight = model.total_mass()
+        * if g > 0.0 {
+            g
+        } else {
+            corps_model::STANDARD_GRAVITY
+        };
     let support = |feet: &[Vector3<f64>]| feet.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
     let ground = if feet.is_empty() {
         0.0

@@ -2,6 +2,7 @@
 //! one-line errors that name the key, and the checks of values that need no robot model.
 
 use super::pushes::PushSpec;
+pub use crate::numbers::number;
 use corps_loop::verdict::{Criteria, Verdict};
 use corps_sim::{ForceTorqueModel, SensorNoise, SimSettings, TerrainPreset};
 use serde::Deserialize;
@@ -53,15 +54,15 @@ pub struct Scenario {
     pub output: OutputSection,
     /// The whole-body controller driving the joints (`corps run`); absent: the constant
     /// `[actuation]` command (`corps sim`).
-    pub controller: Option<crate::run::ControllerSection>,
+    pub controller: Option<crate::run::controller::ControllerSection>,
     /// What the controller is asked to do (`corps run`).
     #[serde(default)]
-    pub motion: crate::run::MotionSection,
+    pub motion: crate::run::motion::MotionSection,
     /// The documents' figures for this experiment, printed beside ours (`corps run`).
-    pub thesis: Option<crate::run::ThesisFigures>,
+    pub thesis: Option<crate::run::metrics::ThesisFigures>,
     /// How the controller learns the robot's state from its sensors (`corps run`).
     #[serde(default)]
-    pub estimator: crate::run::EstimatorSection,
+    pub estimator: crate::run::estimation::EstimatorSection,
 }
 
 fn completed() -> Verdict {
@@ -356,15 +357,6 @@ impl Scenario {
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_else(|| "scenario".into())
         })
-    }
-}
-
-/// `x` for a message: plain when moderate, in scientific notation when huge or tiny.
-pub fn number(x: f64) -> String {
-    if x == 0.0 || (1e-4..1e7).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
     }
 }
 

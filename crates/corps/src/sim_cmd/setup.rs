@@ -3,6 +3,7 @@
 //! needs the robot model is checked here; errors name the scenario key.
 
 use super::scenario::{ActuationMode, Scenario};
+pub use crate::foot::Foot;
 use anyhow::{anyhow, bail, Context, Result};
 use corps_loop::verdict::Criteria;
 use corps_model::{forward_kinematics_placements, Data, Model, RootJoint};
@@ -14,19 +15,6 @@ use corps_sim::{
 use nalgebra::DVector;
 use std::path::Path;
 use std::sync::Arc;
-
-/// A foot: a force/torque sensor under it and the body carrying it.
-#[derive(Clone, Debug)]
-pub struct Foot {
-    /// Label used in column and plot names ("left").
-    pub label: String,
-    /// Index of its force/torque sensor in the readings.
-    pub sensor: usize,
-    /// Frame of that sensor (TALOS: the sole frame).
-    pub frame: usize,
-    /// Joint whose body carries the sensor.
-    pub joint: usize,
-}
 
 /// Everything a run needs.
 pub struct Setup {

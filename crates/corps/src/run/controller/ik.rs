@@ -5,7 +5,7 @@
 
 use super::WholeBodyController;
 use crate::run::gains::IkGainsFile;
-use crate::run::motion::Targets;
+use crate::run::targets::Targets;
 use anyhow::Result;
 use corps_control::formulation::{IkGains, InverseKinematics, StackFrames};
 use corps_control::{ControlError, FallbackReason, RobotState};

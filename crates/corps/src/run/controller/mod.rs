@@ -11,12 +11,13 @@ pub use ik::IkController;
 pub use stabilized::{behind_stabilizer, Stabilized};
 pub use tsid::{TsidController, TsidMode};
 
-use super::motion::Targets;
+use super::targets::Targets;
 use corps_control::stabilizer::{StabilizerOutput, Wrench};
 use corps_control::FallbackReason;
 use corps_sim::Command;
 use nalgebra::{Isometry3, Vector2, Vector3};
 use serde::Deserialize;
+use std::path::PathBuf;
 
 /// The robot's two feet, left then right, or an error: these controllers balance bipeds.
 pub fn two_feet(robot: &corps_robot::Robot) -> anyhow::Result<[&corps_robot::Foot; 2]> {
@@ -27,6 +28,41 @@ pub fn two_feet(robot: &corps_robot::Robot) -> anyhow::Result<[&corps_robot::Foo
             robot.name,
             feet.len()
         ),
+    }
+}
+
+/// `[controller]`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ControllerSection {
+    pub kind: ControllerKind,
+    /// Gains: a name of the robot description's `[gains]` (`tsid_torque_walk`) or a file
+    /// relative to the scenario (absent: the robot's gains for the kind).
+    pub gains: Option<PathBuf>,
+    /// Time under the joint PD hold before the controller takes over (s).
+    #[serde(default = "half_second")]
+    pub settle: f64,
+    /// Values replacing the gains file's, e.g. `posture.weight = 1e-3`.
+    #[serde(default)]
+    pub set: toml::Table,
+}
+
+/// Longest settling time under the joint PD hold before the controller takes over (s).
+pub const MAX_SETTLE: f64 = 600.0;
+
+fn half_second() -> f64 {
+    0.5
+}
+
+impl ControllerSection {
+    pub fn check(&self) -> Result<(), String> {
+        if !(self.settle >= 0.0 && self.settle <= MAX_SETTLE) {
+            return Err(format!(
+                "controller.settle: must be a time in [0, {MAX_SETTLE}] s, got {}",
+                crate::numbers::number(self.settle)
+            ));
+        }
+        Ok(())
     }
 }
 

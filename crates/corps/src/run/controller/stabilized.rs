@@ -10,7 +10,7 @@
 
 use super::{Measured, WholeBodyController};
 use crate::run::gains::StabilizerGains;
-use crate::run::motion::Targets;
+use crate::run::targets::Targets;
 use corps_control::stabilizer::{
     ContactPhase, Sole, Stabilizer, StabilizerInput, StabilizerOutput, StabilizerSettings,
 };

@@ -41,7 +41,7 @@
 
 use super::WholeBodyController;
 use crate::run::gains::TsidGains;
-use crate::run::motion::Targets;
+use crate::run::targets::Targets;
 use anyhow::Result;
 use corps_control::contacts::Contact;
 use corps_control::formulation::InverseDynamics;
