@@ -254,7 +254,13 @@ impl Loader {
                             .joint_id(n)
                             .map_err(|_| format!("{key}.ankle: no joint named '{n}'"))
                     };
-                    [j(pitch)?, j(roll)?]
+                    let ankle = [j(pitch)?, j(roll)?];
+                    if ankle.iter().any(|a| *a == 0 || model.joints[*a].nv() != 1) {
+                        return Err(format!(
+                            "{key}.ankle: must name two one-axis joints of the leg"
+                        ));
+                    }
+                    ankle
                 }
                 None => {
                     let parent = model.joints[joint].parent.filter(|p| *p > 0).ok_or_else(|| {
@@ -336,7 +342,7 @@ impl Loader {
 
 /// Raises every body's principal moments of inertia (about its centre of mass) to `floor`.
 fn raise_inertias(model: &mut Model, floor: f64) {
-    for body in model.inertias.iter_mut().skip(1) {
+    for body in model.inertias.iter_mut() {
         let eig = nalgebra::SymmetricEigen::new(body.inertia);
         if eig.eigenvalues.min() < floor {
             let raised = eig.eigenvalues.map(|x| x.max(floor));
@@ -433,6 +439,9 @@ fn check_sole(s: &SoleSpec) -> Checked<()> {
     let values = [s.front, s.back, s.left, s.right];
     if values.iter().any(|x| !x.is_finite()) {
         return Err("front, back, left and right must be finite".into());
+    }
+    if values.iter().any(|x| *x < 0.0) {
+        return Err("front, back, left and right are distances from the sole frame's origin to the edges: each ≥ 0".into());
     }
     if s.front + s.back <= 0.0 || s.left + s.right <= 0.0 {
         return Err(format!(

@@ -80,7 +80,7 @@ fn talos_with(edit: impl Fn(&str) -> String) -> Result<Robot, RobotError> {
 
 #[test]
 fn bad_descriptions_are_refused_with_one_line_naming_the_key() {
-    let cases: [(&str, &str, &str); 9] = [
+    let cases: [(&str, &str, &str); 11] = [
         ("frame = \"leg_left_sole_fix_joint\"", "frame = \"left_sole_nowhere\"", "feet[0].frame: no frame named 'left_sole_nowhere'"),
         ("ankle = [\"leg_left_5_joint\"", "ankle = [\"leg_left_9_joint\"", "feet[0].ankle: no joint named 'leg_left_9_joint'"),
         ("sole = { front = 0.1, back = 0.1, left = 0.065, right = 0.065 }\nforce_torque = \"left_ankle\"", "sole = { front = 0.1, back = 0.1, left = 0.0, right = 0.0 }\nforce_torque = \"left_ankle\"", "feet[0].sole: the rectangle has zero area"),
@@ -90,6 +90,8 @@ fn bad_descriptions_are_refused_with_one_line_naming_the_key() {
         ("name = \"talos\"", "name = \"talos\"\nmass = 90.0", "unknown field `mass`"),
         ("[gains]", "[limits.effort]\nleg_left_1_joint = -1.0\n[gains]", "limits.effort.leg_left_1_joint: must be a finite number > 0"),
         ("tsid_torque = \"", "tsid_torque = \"missing/", "gains.tsid_torque: cannot read"),
+        ("ankle = [\"leg_left_5_joint\"", "ankle = [\"root_joint\"", "feet[0].ankle: must name two one-axis joints"),
+        ("sole = { front = 0.1, back = 0.1, left = 0.065, right = 0.065 }\nforce_torque = \"left_ankle\"", "sole = { front = 0.1, back = -0.05, left = 0.065, right = 0.065 }\nforce_torque = \"left_ankle\"", "feet[0].sole: front, back, left and right are distances"),
     ];
     for (from, to, expected) in cases {
         let e = talos_with(|t| {

@@ -14,8 +14,8 @@ pub enum RobotCommand {
         urdf: PathBuf,
         /// Its SRDF with a reference posture (group_state).
         srdf: Option<PathBuf>,
-        /// Where to write the description (default: `<urdf stem>.toml` beside the URDF's
-        /// folder, i.e. in the current directory). An existing file is never replaced.
+        /// Where to write the description, a `.toml` file (default: `<urdf stem>.toml` in the
+        /// current directory). An existing file is never replaced.
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
@@ -35,6 +35,9 @@ pub fn run(cmd: RobotCommand) -> Result<()> {
             .map_or("robot".into(), |s| s.to_string_lossy().into_owned());
         PathBuf::from(format!("{stem}.toml"))
     });
+    if output.extension().is_none_or(|e| e != "toml") {
+        bail!("{}: a robot description is a .toml file", output.display());
+    }
     if output.exists() {
         bail!(
             "{}: already exists; corps robot init does not replace a file",

@@ -98,10 +98,11 @@ impl RunEstimator {
             .collect();
         let imu = match imu_frame {
             Some(f) => f,
+            // The root body, as the simulator places an unnamed IMU: the root joint's frame.
             None => model
                 .frames
                 .iter()
-                .position(|f| f.parent_joint == Some(1))
+                .position(|f| f.parent_joint == Some(0) && f.kind == corps_model::FrameKind::Joint)
                 .unwrap_or(0),
         };
         let settings = EstimatorSettings {
