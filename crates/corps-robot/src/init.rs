@@ -3,7 +3,7 @@
 //! and every guess carries a `# CHECK:` comment saying what a person must verify.
 
 use corps_model::{forward_kinematics_placements, Data, FrameKind, Model, Shape};
-use nalgebra::{DVector, Vector3};
+use nalgebra::Vector3;
 
 /// A foot guessed from the model.
 struct GuessedFoot {
@@ -23,17 +23,17 @@ pub fn draft(model: &Model, urdf: &str, srdf: Option<&str>) -> String {
     let posture = model.reference_configurations.first();
     let q = posture
         .map(|(_, q)| q.clone())
-        .unwrap_or_else(|| neutral(model));
+        .unwrap_or_else(|| corps_model::neutral(model));
     let mut data = Data::new(model);
     let feet = match forward_kinematics_placements(model, &mut data, q.as_slice()) {
         Ok(()) => guess_feet(model, &data),
         Err(_) => vec![],
     };
-    let base = model
-        .frames
-        .iter()
+    let base = (model.frames.iter())
         .find(|f| f.kind == FrameKind::Body && f.parent_joint == Some(0))
-        .map_or("base_link", |f| f.name.as_str());
+        .map(|f| f.name.as_str())
+        .or_else(|| model.joints.first().map(|j| j.name.as_str()))
+        .unwrap_or("CHECK");
     let mut out = String::new();
     let name = if model.name.is_empty() {
         "robot"
@@ -110,14 +110,6 @@ pub fn draft(model: &Model, urdf: &str, srdf: Option<&str>) -> String {
          \n# Gains files by controller kind, e.g. tsid_torque = \"tsid_torque.toml\".\n[gains]\n",
     );
     out
-}
-
-fn neutral(model: &Model) -> DVector<f64> {
-    let mut q = DVector::zeros(model.nq);
-    if model.has_free_flyer() {
-        q[6] = 1.0;
-    }
-    q
 }
 
 /// The lowest bodies: primitives within 2 cm of the lowest point, else (mesh-only) the two

@@ -11,15 +11,6 @@ const TALOS_SRDF: &str = include_str!("../../../robots/talos_data/srdf/talos.srd
 
 /// Loads `urdf` (or TALOS when None) with an optional SRDF for reference configurations.
 pub fn load_model(urdf: Option<&Path>, srdf: Option<&Path>, fixed_base: bool) -> Result<Model> {
-    load(TALOS_URDF, urdf, srdf, fixed_base)
-}
-
-fn load(
-    default_urdf: &str,
-    urdf: Option<&Path>,
-    srdf: Option<&Path>,
-    fixed_base: bool,
-) -> Result<Model> {
     let root = if fixed_base {
         RootJoint::Fixed
     } else {
@@ -29,7 +20,7 @@ fn load(
         Some(p) => build_model_from_urdf_file(p, root)
             .with_context(|| format!("loading {}", p.display()))?,
         None => {
-            let mut m = build_model_from_urdf_str(default_urdf, root)
+            let mut m = build_model_from_urdf_str(TALOS_URDF, root)
                 .context("loading the embedded TALOS model")?;
             if srdf.is_none() {
                 corps_model::parse::load_reference_configurations_str(&mut m, TALOS_SRDF)

@@ -3,7 +3,6 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Subcommand;
-use corps_model::{build_model_from_urdf_file, load_reference_configurations, RootJoint};
 use std::path::{Path, PathBuf};
 
 #[derive(Subcommand)]
@@ -23,12 +22,7 @@ pub enum RobotCommand {
 
 pub fn run(cmd: RobotCommand) -> Result<()> {
     let RobotCommand::Init { urdf, srdf, output } = cmd;
-    let mut model = build_model_from_urdf_file(&urdf, RootJoint::FreeFlyer)
-        .with_context(|| format!("loading {}", urdf.display()))?;
-    if let Some(s) = &srdf {
-        load_reference_configurations(&mut model, s)
-            .with_context(|| format!("loading {}", s.display()))?;
-    }
+    let model = corps::default_robot::load_model(Some(&urdf), srdf.as_deref(), false)?;
     let output = output.unwrap_or_else(|| {
         let stem = urdf
             .file_stem()

@@ -294,7 +294,7 @@ fn bad_scenarios_fail_with_one_line_naming_the_key() {
         ),
         (
             "duration = 0.1\n[robot]\nurdf = \"missing.urdf\"\n".into(),
-            "robot.urdf: loading",
+            "robot: loading",
         ),
         (
             "duration = 0.1\nduration = 0.2\n".into(),

@@ -4,6 +4,7 @@
 
 use anyhow::{anyhow, bail, Context, Result};
 use corps_model::Model;
+use corps_robot::GainsText;
 use nalgebra::DVector;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -11,11 +12,8 @@ use std::path::Path;
 
 /// Where a controller's gains come from.
 pub enum GainsSource {
-    /// A gains file of the robot's description (by name) or a file's text already read.
-    Text {
-        text: String,
-        shown: String,
-    },
+    /// A gains file of the robot's description (by name), or a text already read.
+    Text(GainsText),
     File(std::path::PathBuf),
 }
 
@@ -37,10 +35,7 @@ impl GainsSource {
             Some(path) => return Ok(GainsSource::File(base_dir.join(path))),
         };
         let g = robot.gains(&text).map_err(|e| anyhow!("{e}"))?;
-        Ok(GainsSource::Text {
-            text: g.text.clone(),
-            shown: g.shown.clone(),
-        })
+        Ok(GainsSource::Text(g.clone()))
     }
 }
 
@@ -186,7 +181,7 @@ pub fn load<T: serde::de::DeserializeOwned>(
             std::fs::read_to_string(p).with_context(|| format!("reading {}", p.display()))?,
             p.display().to_string(),
         ),
-        GainsSource::Text { text, shown } => (text.clone(), shown.clone()),
+        GainsSource::Text(g) => (g.text.clone(), g.shown.clone()),
     };
     if !overrides.is_empty() {
         let mut table: toml::Table = text
@@ -196,13 +191,7 @@ pub fn load<T: serde::de::DeserializeOwned>(
         text = toml::to_string(&table).context("merging controller.set")?;
         name = format!("{name} with controller.set");
     }
-    let de = toml::Deserializer::parse(&text).map_err(|e| anyhow!("{name}: {}", e.message()))?;
-    let gains = serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        anyhow!("{name}: {path}: {}", e.inner().message().trim())
-    })?;
-    corps_robot::toml_text::check_lengths::<T>(&text).map_err(|e| anyhow!("{name}: {e}"))?;
-    Ok(gains)
+    corps_robot::toml_text::parse(&text).map_err(|e| anyhow!("{name}: {e}"))
 }
 
 /// Replaces `base`'s values by `over`'s, descending into tables present in both.
@@ -325,7 +314,7 @@ mod tests {
 
     fn text(name: &str) -> String {
         match talos(name) {
-            GainsSource::Text { text, .. } => text,
+            GainsSource::Text(g) => g.text,
             GainsSource::File(_) => unreachable!("built-in"),
         }
     }
@@ -352,10 +341,10 @@ mod tests {
     #[test]
     fn unknown_keys_and_bad_values_are_errors() {
         let bad = text("tsid_torque").replace("[com]\n", "[com]\nkpp = 1.0\n");
-        let source = GainsSource::Text {
+        let source = GainsSource::Text(GainsText {
             text: bad,
             shown: "test".into(),
-        };
+        });
         let e = load::<TsidGains>(&source, &toml::Table::new())
             .unwrap_err()
             .to_string();

@@ -29,9 +29,7 @@ pub struct SensorProfile {
 impl SensorProfile {
     /// Parses and checks a profile; the error is one line naming the key.
     pub fn parse(text: &str) -> Result<SensorProfile, String> {
-        corps_robot::toml_text::check_lengths::<SensorProfile>(text)?;
-        let profile: SensorProfile =
-            toml::from_str(text).map_err(|e| e.message().trim().replace('\n', " "))?;
+        let profile: SensorProfile = corps_robot::toml_text::parse(text)?;
         check_noise(&profile.noise)?;
         Ok(profile)
     }

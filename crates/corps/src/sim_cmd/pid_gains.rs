@@ -37,8 +37,7 @@ pub fn load(model: &Model, path: &Path) -> Result<ServoGains> {
 
 /// The servo gains of `model` from a PID file's text.
 pub fn parse(model: &Model, text: &str) -> Result<ServoGains> {
-    let file: PidFile =
-        toml::from_str(text).map_err(|e| anyhow!("{}", e.message().trim().replace('\n', " ")))?;
+    let file: PidFile = corps_robot::toml_text::parse(text).map_err(|e| anyhow!("{e}"))?;
     let first = first_actuated(model);
     let na = model.nv - first;
     let mut per_dof: Vec<Option<JointPid>> = vec![None; na];

@@ -2,7 +2,7 @@
 //! one-line errors that name the key, and the checks of values that need no robot model.
 
 use super::pushes::PushSpec;
-pub use crate::numbers::number;
+use crate::numbers::number;
 use corps_loop::verdict::{Criteria, Verdict};
 use corps_sim::{ForceTorqueModel, SensorNoise, SimSettings, TerrainPreset};
 use serde::Deserialize;

@@ -3,10 +3,10 @@
 //! needs the robot model is checked here; errors name the scenario key.
 
 use super::scenario::{ActuationMode, Scenario};
-pub use crate::foot::Foot;
+use crate::foot::Foot;
 use anyhow::{anyhow, bail, Context, Result};
 use corps_loop::verdict::Criteria;
-use corps_model::{forward_kinematics_placements, Data, Model, RootJoint};
+use corps_model::{forward_kinematics_placements, Data, Model};
 use corps_robot::Robot;
 use corps_sim::{
     first_actuated, place_on_ground, sample_contact_points, Command, SensorLayout, Sensors,
@@ -40,14 +40,10 @@ pub struct Setup {
 pub fn load_robot(scenario: &Scenario, base_dir: &Path) -> Result<(Option<Robot>, Arc<Model>)> {
     let section = &scenario.robot;
     if let Some(urdf) = &section.urdf {
-        let urdf = base_dir.join(urdf);
-        let mut model = corps_model::build_model_from_urdf_file(&urdf, RootJoint::FreeFlyer)
-            .with_context(|| format!("robot.urdf: loading {}", urdf.display()))?;
-        if let Some(srdf) = &section.srdf {
-            let srdf = base_dir.join(srdf);
-            corps_model::load_reference_configurations(&mut model, &srdf)
-                .with_context(|| format!("robot.srdf: loading {}", srdf.display()))?;
-        }
+        let srdf = section.srdf.as_ref().map(|s| base_dir.join(s));
+        let model =
+            crate::default_robot::load_model(Some(&base_dir.join(urdf)), srdf.as_deref(), false)
+                .context("robot")?;
         return Ok((None, Arc::new(model)));
     }
     let name = section.description.as_deref().unwrap_or("talos");
