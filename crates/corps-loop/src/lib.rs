@@ -1,7 +1,11 @@
-//! What watches a closed-loop run tick by tick, whatever the robot, plant or controller: the
-//! [`verdict`] that ends every run (completed, fell, diverged, controller failed), decided
-//! from criteria that come from the robot description and the scenario, never from a robot's
-//! constants.
+//! The closed loop of corps, whatever the robot: a [`Plant`] (a simulator, another physics
+//! engine, a real robot) takes a [`Command`] per control period and gives sensor readings; an
+//! [`Estimator`](corps_estimation::Estimator) turns them into the state a [`Controller`]
+//! reads with its references; [`Observer`]s (metrics, logs, the [`verdict`]) see every tick.
+//! [`ClosedLoop::run`] ties them together and returns how the run ended.
+//!
+//! The verdict's criteria come from the robot description and the scenario, never from a
+//! robot's constants:
 //!
 //! ```
 //! use corps_loop::verdict::{Criteria, TickSample, Verdict, VerdictObserver};
@@ -13,4 +17,15 @@
 //! assert_eq!(watch.finish(1.0).verdict, Verdict::Completed);
 //! ```
 
+mod closed_loop;
+mod command;
+mod controller;
+mod observer;
+mod plant;
 pub mod verdict;
+
+pub use closed_loop::{ClosedLoop, Feed, LoopEnd, LoopError, LoopOutcome, LoopSettings};
+pub use command::Command;
+pub use controller::{Controller, ReferenceSource};
+pub use observer::{Flow, Observer, Tick};
+pub use plant::{ContactForce, Plant, PlantError, Sensed, Truth};

@@ -40,7 +40,9 @@ mod contact_pass;
 mod contact_points;
 mod disturbance;
 mod error;
+mod overlap;
 mod placement;
+mod plant;
 mod sensors;
 mod simulator;
 mod terrain;
@@ -50,7 +52,9 @@ pub use contact::{point_force, Anchor, ContactParams, PointForce, PointLineariza
 pub use contact_points::{sample_contact_points, ContactPoint, ShapeBound};
 pub use disturbance::Push;
 pub use error::{Result, SimError};
+pub use overlap::Overlap;
 pub use placement::place_on_ground;
+pub use plant::SimulatedRobot;
 pub use sensors::{
     ForceTorqueModel, ImuReading, Noise, Readings, SensorLayout, SensorNoise, Sensors,
 };

@@ -2,8 +2,8 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
-use corps::default_robot::load_model;
 use corps_model::*;
+use corps_scenario::default_robot::load_model;
 use nalgebra::{DMatrix, Matrix3xX, Matrix6xX};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;

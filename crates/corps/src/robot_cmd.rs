@@ -22,7 +22,7 @@ pub enum RobotCommand {
 
 pub fn run(cmd: RobotCommand) -> Result<()> {
     let RobotCommand::Init { urdf, srdf, output } = cmd;
-    let model = corps::default_robot::load_model(Some(&urdf), srdf.as_deref(), false)?;
+    let model = corps_scenario::default_robot::load_model(Some(&urdf), srdf.as_deref(), false)?;
     let output = output.unwrap_or_else(|| {
         let stem = urdf
             .file_stem()

@@ -43,8 +43,7 @@ pub fn remove_stale_plots(dir: &Path, written: &[PathBuf]) -> Result<()> {
     Ok(())
 }
 
-/// Default size cap of a log (`[output] max_log_mb`).
-pub const DEFAULT_MAX_LOG_MB: f64 = 1024.0;
+pub use corps_scenario::scenario::DEFAULT_MAX_LOG_MB;
 
 /// Writes `bytes` to `dir/name` through a temporary file, so a failed run never leaves half a
 /// file over a previous one. The file is an ordinary one (0o666 less the umask).

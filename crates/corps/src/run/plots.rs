@@ -2,9 +2,9 @@
 //! heights and vertical forces, base position, controller time per tick; with a stabilizer,
 //! the ankle admittance's offsets and rates and each foot's CoP against its target.
 
-use super::plot_buffer::PlotBuffer;
 use crate::sim_cmd::plots::{draw_figures, Figure, Panel};
 use anyhow::{anyhow, Result};
+use corps_scenario::series::PlotBuffer;
 use std::path::{Path, PathBuf};
 
 /// Writes the figures of the signals in `buffer` (columns named by `header`, the log's) into

@@ -7,20 +7,16 @@
 //! - [`log`]: the CSV log; [`plots`]: the PNG plots; [`summary`]: the printed summary.
 
 pub(crate) mod log;
-pub(crate) mod pid_gains;
 pub(crate) mod plots;
-pub(crate) mod pushes;
-pub(crate) mod scenario;
-pub(crate) mod setup;
 mod summary;
 
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
 use corps_loop::verdict::{TickSample, VerdictObserver};
 use corps_model::{center_of_mass, forward_kinematics_placements, frame_placement, Data};
+use corps_scenario::scenario::{self, Scenario};
+use corps_scenario::setup::{self, Setup};
 use nalgebra::Vector3;
-use scenario::Scenario;
-use setup::Setup;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;

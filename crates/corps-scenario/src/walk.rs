@@ -8,8 +8,8 @@
 //!   by the velocity-driven MPC of seed 002 §4.4, re-planned every control period
 //!   ([`VelocitySection`]).
 
-use super::targets::{positive, FootTarget, Side, Targets};
-use anyhow::{Context, Result};
+use crate::error::{Context, Result};
+use crate::targets::{positive, FootTarget, Side, Targets};
 use corps_control::trajectories::MinJerk;
 use corps_model::spatial::{Motion, Se3};
 use corps_sim::Terrain;
@@ -57,7 +57,7 @@ pub struct WalkSection {
     pub com_height: Option<f64>,
     /// Run the dynamic filter (seed 002 §2.2.2) on the plan before the run: a kinematic IK
     /// replay measures the whole body's ZMP and one preview-control pass corrects the CoM
-    /// (`crate::run::dynamic_filter`). Default off.
+    /// (`crate::dynamic_filter`). Default off.
     #[serde(default)]
     pub dynamic_filter: bool,
 }
@@ -177,7 +177,7 @@ impl<'a> PlanGround<'a> {
             let (z, _) = terrain
                 .surface_at(p.translation.x, p.translation.y)
                 .context("motion.on_terrain: no terrain under the starting feet")?;
-            Ok::<_, anyhow::Error>(z)
+            Ok::<_, crate::ScenarioError>(z)
         };
         let ground0 = (under(&feet0[0])? + under(&feet0[1])?) / 2.0;
         let origin = (feet0[0].translation + feet0[1].translation) / 2.0;
@@ -300,9 +300,9 @@ impl WalkMotion {
         // The robot's MPC settings (`walk_mpc` of its description's [gains]).
         let file = robot
             .gains("walk_mpc")
-            .map_err(|e| anyhow::anyhow!("motion: {e}"))?;
+            .map_err(|e| crate::error::invalid!("motion: {e}"))?;
         let settings: MpcParams = corps_robot::toml_text::parse(&file.text)
-            .map_err(|e| anyhow::anyhow!("motion: {}: {e}", file.shown))?;
+            .map_err(|e| crate::error::invalid!("motion: {}: {e}", file.shown))?;
         let params = MpcParams {
             lipm: Lipm::new(com_height, corps_walk::lipm::GRAVITY).context("motion: LIPM")?,
             control_period: dt,

@@ -2,10 +2,10 @@
 //! [`Targets`] (a CoM reference and one target per foot). Times count from the moment the
 //! controller takes over; positions are relative to the robot's pose at that moment.
 
-use super::targets::positive;
-pub use super::targets::{FootTarget, Side, Targets};
-use super::walk::{VelocitySection, WalkMotion, WalkSection};
-use anyhow::Context;
+use crate::error::Context;
+use crate::targets::positive;
+pub use crate::targets::{FootTarget, Side, Targets};
+use crate::walk::{VelocitySection, WalkMotion, WalkSection};
 use corps_control::tasks::Reference;
 use corps_control::trajectories::{MinJerk, Sampled, Sinusoid};
 use corps_model::spatial::{Motion, Se3};
@@ -144,7 +144,7 @@ impl MotionPlan {
         duration: f64,
         base_dir: &std::path::Path,
         terrain: &Terrain,
-    ) -> anyhow::Result<Self> {
+    ) -> crate::Result<Self> {
         let Handover {
             com: com0,
             feet: feet0,
@@ -157,7 +157,7 @@ impl MotionPlan {
                 let s = Sampled::from_csv(&text)
                     .with_context(|| format!("motion.path: {}", path.display()))?;
                 if s.sample(0.0).pos.len() != 3 {
-                    anyhow::bail!(
+                    crate::error::bail!(
                         "motion.path: {}: rows must be `t, dx, dy, dz`",
                         path.display()
                     );
@@ -305,6 +305,12 @@ impl MotionPlan {
                 foot.reference.acceleration = Motion::new(v3(&r.acc), Vector3::zeros());
             }
         }
+    }
+}
+
+impl corps_loop::ReferenceSource<Targets> for MotionPlan {
+    fn sample(&mut self, t: f64, out: &mut Targets) {
+        MotionPlan::sample(self, t, out);
     }
 }
 

@@ -9,8 +9,8 @@
 //! mode the damping offset comes filtered with its velocity and acceleration ([`ComTracking`]).
 
 use super::{Measured, WholeBodyController};
-use crate::run::gains::StabilizerGains;
-use crate::run::targets::Targets;
+use crate::gains::StabilizerGains;
+use crate::targets::Targets;
 use corps_control::stabilizer::{
     ContactPhase, Sole, Stabilizer, StabilizerInput, StabilizerOutput, StabilizerSettings,
 };
@@ -66,7 +66,7 @@ pub fn behind_stabilizer<C: WholeBodyController + ComTracking + 'static>(
     foot: &corps_robot::Foot,
     mass: f64,
     dt: f64,
-) -> anyhow::Result<Box<dyn WholeBodyController>> {
+) -> crate::Result<Box<dyn WholeBodyController>> {
     Ok(match gains {
         Some(g) => Box::new(Stabilized::new(inner, g, foot, mass, dt)?),
         None => Box::new(inner),
@@ -82,7 +82,7 @@ impl<C: WholeBodyController + ComTracking> Stabilized<C> {
         foot: &corps_robot::Foot,
         mass: f64,
         dt: f64,
-    ) -> anyhow::Result<Self> {
+    ) -> crate::Result<Self> {
         let s = foot.sole;
         let sole = Sole::new(
             g.sole_half_length.unwrap_or(s.front.min(s.back)),

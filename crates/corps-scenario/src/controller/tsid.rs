@@ -40,9 +40,9 @@
 //! (1000 instead of 1: ZMP x 43.6/309.3, y 33.4/236.0 mm).
 
 use super::WholeBodyController;
-use crate::run::gains::TsidGains;
-use crate::run::targets::Targets;
-use anyhow::Result;
+use crate::error::Result;
+use crate::gains::TsidGains;
+use crate::targets::Targets;
 use corps_control::contacts::Contact;
 use corps_control::formulation::InverseDynamics;
 use corps_control::tasks::{AngularMomentumTask, ComTask, PostureTask, Se3Reference, Se3Task};
@@ -103,7 +103,7 @@ impl TsidController {
     ) -> Result<Self> {
         gains.check()?;
         if gains.contacts.bilateral && mode == TsidMode::Torque {
-            anyhow::bail!(
+            crate::error::bail!(
                 "contacts.bilateral: torque mode applies the QP's contact forces, which must \
                  stay in the friction pyramids"
             );

@@ -11,11 +11,11 @@
 //! the CoM: the ground wrench is `f = ṗ + m g e_z` and its moment about `c` is `L̇`):
 //! `p_x = c_x − ((c_z − z₀) f_x + L̇_y) / f_z`,  `p_y = c_y − ((c_z − z₀) f_y − L̇_x) / f_z`.
 
-use super::controller::{IkController, Measured, WholeBodyController};
-use super::gains;
-use super::metrics::DynamicFilterMetrics;
-use super::motion::{MotionPlan, Targets};
-use anyhow::{bail, Context, Result};
+use crate::controller::{IkController, Measured, WholeBodyController};
+use crate::error::{bail, Context, Result};
+use crate::gains;
+use crate::metrics::DynamicFilterMetrics;
+use crate::motion::{MotionPlan, Targets};
 use corps_control::stabilizer::Wrench;
 use corps_model::{compute_centroidal_momentum, difference_to, Data};
 use corps_robot::Robot;

@@ -2,8 +2,8 @@
 //! `force_torque_model`) in a file of their own, so that one set of sensor levels, stated once with its sources, applies to
 //! every scenario (`corps run --noise FILE`; `scenarios/sensors/`).
 
-use crate::sim_cmd::scenario::check_noise;
-use anyhow::{anyhow, Result};
+use crate::error::{invalid, Result};
+use crate::scenario::check_noise;
 use corps_sim::{ForceTorqueModel, SensorNoise};
 use serde::Deserialize;
 use std::path::Path;
@@ -37,9 +37,9 @@ impl SensorProfile {
     /// Reads and checks the profile at `path`.
     pub fn read(path: &Path) -> Result<SensorProfile> {
         let text = std::fs::read_to_string(path)
-            .map_err(|e| anyhow!("{}: cannot read the sensor profile: {e}", path.display()))?;
+            .map_err(|e| invalid!("{}: cannot read the sensor profile: {e}", path.display()))?;
         let mut profile =
-            SensorProfile::parse(&text).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+            SensorProfile::parse(&text).map_err(|e| invalid!("{}: {e}", path.display()))?;
         profile.name = path.file_name().map_or_else(
             || path.display().to_string(),
             |n| n.to_string_lossy().into(),

@@ -14,16 +14,18 @@ pub use tsid::{TsidController, TsidMode};
 use super::targets::Targets;
 use corps_control::stabilizer::{StabilizerOutput, Wrench};
 use corps_control::FallbackReason;
-use corps_sim::Command;
+use corps_estimation::EstimatedState;
+use corps_loop::{Command, Controller};
+use corps_model::spatial::Se3;
 use nalgebra::{Isometry3, Vector2, Vector3};
 use serde::Deserialize;
 use std::path::PathBuf;
 
 /// The robot's two feet, left then right, or an error: these controllers balance bipeds.
-pub fn two_feet(robot: &corps_robot::Robot) -> anyhow::Result<[&corps_robot::Foot; 2]> {
+pub fn two_feet(robot: &corps_robot::Robot) -> crate::Result<[&corps_robot::Foot; 2]> {
     match robot.feet.as_slice() {
         [left, right] => Ok([left, right]),
-        feet => anyhow::bail!(
+        feet => crate::error::bail!(
             "robot '{}' has {} feet: the whole-body controllers of corps run balance a biped (two feet, left first)",
             robot.name,
             feet.len()
@@ -108,8 +110,8 @@ pub struct Measured {
     pub foot_wrenches: [Wrench; 2],
 }
 
-/// A whole-body controller in the loop.
-pub trait WholeBodyController {
+/// A whole-body controller of a scenario.
+pub trait WholeBodyController: Send {
     /// Computes the joint command at `t` (s since the handover) from the measured state and
     /// the targets. Returns why the safe command was used instead, if it was.
     fn tick(
@@ -130,4 +132,57 @@ pub trait WholeBodyController {
     fn stabilizer_output(&self) -> Option<&StabilizerOutput> {
         None
     }
+}
+
+/// A scenario's controller as the loop's [`Controller`]: it reads the estimator's state and
+/// hands the controller (q, v) and what the sensors measured.
+pub struct ScenarioController {
+    inner: Box<dyn WholeBodyController>,
+}
+
+impl ScenarioController {
+    pub fn new(inner: Box<dyn WholeBodyController>) -> Self {
+        Self { inner }
+    }
+
+    /// The balance stabilizer's output of the last tick, if there is a stabilizer.
+    pub fn stabilizer_output(&self) -> Option<&StabilizerOutput> {
+        self.inner.stabilizer_output()
+    }
+}
+
+impl Controller for ScenarioController {
+    type References = Targets;
+    type Fallback = FallbackReason;
+
+    fn tick(&mut self, t: f64, est: &EstimatedState, targets: &Targets) -> Option<FallbackReason> {
+        let measured = Measured {
+            com: est.com,
+            com_velocity: est.com_velocity,
+            zmp: est.zmp,
+            feet: [0, 1].map(|k| isometry(&est.feet[k].placement)),
+            foot_wrenches: [0, 1].map(|k| {
+                let w = &est.feet[k].wrench;
+                Wrench::new(
+                    Vector3::new(w[0], w[1], w[2]),
+                    Vector3::new(w[3], w[4], w[5]),
+                )
+            }),
+        };
+        self.inner
+            .tick(t, est.q.as_slice(), est.v.as_slice(), targets, &measured)
+    }
+
+    fn command(&self) -> &Command {
+        self.inner.command()
+    }
+}
+
+/// An `Se3` as a nalgebra isometry.
+fn isometry(m: &Se3) -> nalgebra::Isometry3<f64> {
+    let r = nalgebra::Rotation3::from_matrix_unchecked(m.rotation);
+    nalgebra::Isometry3::from_parts(
+        nalgebra::Translation3::from(m.translation),
+        nalgebra::UnitQuaternion::from_rotation_matrix(&r),
+    )
 }

@@ -3,7 +3,7 @@
 //! controllers take them (`config/talos/gazebo_pid.toml`). Every actuated joint of the model
 //! needs its gains and every joint named must exist.
 
-use anyhow::{anyhow, bail, Result};
+use crate::error::{bail, invalid, Result};
 use corps_model::Model;
 use corps_sim::{first_actuated, IntegralTerm, ServoGains};
 use nalgebra::DVector;
@@ -31,20 +31,20 @@ struct PidFile {
 /// The servo gains of `model` from the PID file at `path`.
 pub fn load(model: &Model, path: &Path) -> Result<ServoGains> {
     let shown = path.display();
-    let text = std::fs::read_to_string(path).map_err(|e| anyhow!("cannot read {shown}: {e}"))?;
-    parse(model, &text).map_err(|e| anyhow!("{shown}: {e}"))
+    let text = std::fs::read_to_string(path).map_err(|e| invalid!("cannot read {shown}: {e}"))?;
+    parse(model, &text).map_err(|e| invalid!("{shown}: {e}"))
 }
 
 /// The servo gains of `model` from a PID file's text.
 pub fn parse(model: &Model, text: &str) -> Result<ServoGains> {
-    let file: PidFile = corps_robot::toml_text::parse(text).map_err(|e| anyhow!("{e}"))?;
+    let file: PidFile = corps_robot::toml_text::parse(text).map_err(|e| invalid!("{e}"))?;
     let first = first_actuated(model);
     let na = model.nv - first;
     let mut per_dof: Vec<Option<JointPid>> = vec![None; na];
     for (name, g) in &file.joints {
         let id = model
             .joint_id(name)
-            .map_err(|_| anyhow!("joints.{name}: the model has no such joint"))?;
+            .map_err(|_| invalid!("joints.{name}: the model has no such joint"))?;
         let joint = &model.joints[id];
         if joint.idx_v < first {
             bail!("joints.{name}: not an actuated joint (the floating base has no servo)");

@@ -4,9 +4,9 @@
 //! that follow the foot targets, in contact or not.
 
 use super::WholeBodyController;
-use crate::run::gains::IkGainsFile;
-use crate::run::targets::Targets;
-use anyhow::Result;
+use crate::error::Result;
+use crate::gains::IkGainsFile;
+use crate::targets::Targets;
 use corps_control::formulation::{IkGains, InverseKinematics, StackFrames};
 use corps_control::{ControlError, FallbackReason, RobotState};
 use corps_model::Model;

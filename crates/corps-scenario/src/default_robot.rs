@@ -2,7 +2,7 @@
 //! example-robot-data, LGPL-3.0; see robots/README.md), embedded so the command works from any
 //! directory. Runs take their robot from a description (`corps_robot`).
 
-use anyhow::{Context, Result};
+use crate::error::{Context, Result};
 use corps_model::{build_model_from_urdf_file, build_model_from_urdf_str, Model, RootJoint};
 use std::path::Path;
 

@@ -1,8 +1,8 @@
 //! The scenario file of `corps sim`: its TOML schema (unknown keys are errors), parsing with
 //! one-line errors that name the key, and the checks of values that need no robot model.
 
-use super::pushes::PushSpec;
 use crate::numbers::number;
+use crate::pushes::PushSpec;
 use corps_loop::verdict::{Criteria, Verdict};
 use corps_sim::{ForceTorqueModel, SensorNoise, SimSettings, TerrainPreset};
 use serde::Deserialize;
@@ -54,15 +54,15 @@ pub struct Scenario {
     pub output: OutputSection,
     /// The whole-body controller driving the joints (`corps run`); absent: the constant
     /// `[actuation]` command (`corps sim`).
-    pub controller: Option<crate::run::controller::ControllerSection>,
+    pub controller: Option<crate::controller::ControllerSection>,
     /// What the controller is asked to do (`corps run`).
     #[serde(default)]
-    pub motion: crate::run::motion::MotionSection,
+    pub motion: crate::motion::MotionSection,
     /// The documents' figures for this experiment, printed beside ours (`corps run`).
-    pub thesis: Option<crate::run::metrics::ThesisFigures>,
+    pub thesis: Option<crate::metrics::ThesisFigures>,
     /// How the controller learns the robot's state from its sensors (`corps run`).
     #[serde(default)]
-    pub estimator: crate::run::estimation::EstimatorSection,
+    pub estimator: crate::estimation::EstimatorSection,
 }
 
 fn completed() -> Verdict {
@@ -196,6 +196,9 @@ pub enum LogFormat {
     Csv,
 }
 
+/// Default size cap of a log (`[output] max_log_mb`).
+pub const DEFAULT_MAX_LOG_MB: f64 = 1024.0;
+
 /// `[output]`: where and what to write.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -225,7 +228,7 @@ impl Default for OutputSection {
             format: LogFormat::Csv,
             plots: true,
             log_every: 1,
-            max_log_mb: crate::output::DEFAULT_MAX_LOG_MB,
+            max_log_mb: DEFAULT_MAX_LOG_MB,
         }
     }
 }
@@ -346,7 +349,7 @@ impl Scenario {
         if let Some(v) = &self.verdict {
             v.check().map_err(|e| format!("verdict.{e}"))?;
         }
-        super::pushes::schedule(&self.pushes, 0.0, self.duration, None)?;
+        crate::pushes::schedule(&self.pushes, 0.0, self.duration, None)?;
         check_noise(&self.noise)
     }
 

@@ -2,7 +2,7 @@
 //! defaults so the command works from any directory). Unknown keys are errors; every value is
 //! checked before a run starts.
 
-use anyhow::{anyhow, bail, Context, Result};
+use crate::error::{bail, invalid, Context, Result};
 use corps_model::Model;
 use corps_robot::GainsText;
 use nalgebra::DVector;
@@ -34,7 +34,7 @@ impl GainsSource {
             }
             Some(path) => return Ok(GainsSource::File(base_dir.join(path))),
         };
-        let g = robot.gains(&text).map_err(|e| anyhow!("{e}"))?;
+        let g = robot.gains(&text).map_err(|e| invalid!("{e}"))?;
         Ok(GainsSource::Text(g.clone()))
     }
 }
@@ -186,12 +186,12 @@ pub fn load<T: serde::de::DeserializeOwned>(
     if !overrides.is_empty() {
         let mut table: toml::Table = text
             .parse()
-            .map_err(|e: toml::de::Error| anyhow!("{name}: {}", e.message()))?;
+            .map_err(|e: toml::de::Error| invalid!("{name}: {}", e.message()))?;
         merge(&mut table, overrides);
         text = toml::to_string(&table).context("merging controller.set")?;
         name = format!("{name} with controller.set");
     }
-    corps_robot::toml_text::parse(&text).map_err(|e| anyhow!("{name}: {e}"))
+    corps_robot::toml_text::parse(&text).map_err(|e| invalid!("{name}: {e}"))
 }
 
 /// Replaces `base`'s values by `over`'s, descending into tables present in both.

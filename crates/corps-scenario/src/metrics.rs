@@ -274,7 +274,7 @@ impl Metrics {
     }
 }
 
-/// The tracking errors over the walk proper ([`super::walk::WalkMotion::walking_window`]):
+/// The tracking errors over the walk proper ([`crate::walk::WalkMotion::walking_window`]):
 /// the whole run's averages are diluted by the standing before and after, and its peaks may
 /// come from the hand-over to walking.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -305,7 +305,7 @@ pub struct WalkMetrics {
     pub dynamic_filter: Option<DynamicFilterMetrics>,
 }
 
-/// What one dynamic filter pass did to the plan (`crate::run::dynamic_filter`): its multibody
+/// What one dynamic filter pass did to the plan (`crate::dynamic_filter`): its multibody
 /// ZMP error (kinematic replay) before and after, and the correction.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct DynamicFilterMetrics {
@@ -380,7 +380,7 @@ pub struct Metrics {
     /// end of the run; printed and written from here).
     pub against_thesis: Vec<Comparison>,
     /// What fed the controller, and the readings it could not use (the estimate was held).
-    pub estimator: super::estimation::EstimatorKind,
+    pub estimator: crate::estimation::EstimatorKind,
     /// The sensors' noise: `noiseless`, the scenario's `[noise]`, or a profile's file.
     pub sensor_noise: String,
     /// How far the controller's estimate was from the simulator's state.
@@ -544,10 +544,10 @@ impl fmt::Display for Metrics {
             )?;
         }
         let source = match self.estimator {
-            super::estimation::EstimatorKind::LegOdometry => {
+            crate::estimation::EstimatorKind::LegOdometry => {
                 "leg odometry + IMU + ankle F/T (the sensors)"
             }
-            super::estimation::EstimatorKind::GroundTruth => {
+            crate::estimation::EstimatorKind::GroundTruth => {
                 "ground truth (the simulator's exact state)"
             }
         };

@@ -1,7 +1,7 @@
-//! The run's signals kept for the plots, in bounded memory: every `stride`-th row, the
+//! The run's time series kept in memory, bounded: every `stride`-th row, the
 //! stride doubling (and every other kept row dropped) whenever the buffer is full, so a run
-//! of any length keeps between half and all of [`MAX_POINTS`] points per signal. Only the
-//! plots are decimated; the log gets every row it asks for.
+//! of any length keeps between half and all of [`MAX_POINTS`] points per signal. A
+//! [`crate::run::RowSink`] gets every row.
 
 /// Points kept per signal at most.
 pub const MAX_POINTS: usize = 8_192;
@@ -56,7 +56,6 @@ impl PlotBuffer {
     }
 
     /// Column `k`'s kept points.
-    #[cfg(test)]
     pub fn column(&self, k: usize) -> &[f64] {
         &self.columns[k]
     }
@@ -67,7 +66,6 @@ impl PlotBuffer {
     }
 
     /// Rows between two kept points.
-    #[cfg(test)]
     pub fn stride(&self) -> usize {
         self.stride
     }

@@ -2,9 +2,9 @@
 //! simulator with its pushes, the sensors and the constant joint command. Everything that
 //! needs the robot model is checked here; errors name the scenario key.
 
-use super::scenario::{ActuationMode, Scenario};
+use crate::error::{bail, invalid, Context, Result};
 use crate::foot::Foot;
-use anyhow::{anyhow, bail, Context, Result};
+use crate::scenario::{ActuationMode, Scenario};
 use corps_loop::verdict::Criteria;
 use corps_model::{forward_kinematics_placements, Data, Model};
 use corps_robot::Robot;
@@ -47,7 +47,7 @@ pub fn load_robot(scenario: &Scenario, base_dir: &Path) -> Result<(Option<Robot>
         return Ok((None, Arc::new(model)));
     }
     let name = section.description.as_deref().unwrap_or("talos");
-    let robot = Robot::resolve(name, base_dir).map_err(|e| anyhow!("robot: {e}"))?;
+    let robot = Robot::resolve(name, base_dir).map_err(|e| invalid!("robot: {e}"))?;
     let model = robot.model.clone();
     Ok((Some(robot), model))
 }
@@ -62,7 +62,7 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         .unwrap_or("half_sitting");
     let mut q0 = model
         .reference_configuration(configuration)
-        .map_err(|e| anyhow!("initial.configuration: {e}"))?
+        .map_err(|e| invalid!("initial.configuration: {e}"))?
         .clone();
     if let Some([x, y]) = init.base_xy {
         q0[0] = x;
@@ -70,22 +70,22 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
     }
     if init.place_on_ground {
         place_on_ground(&model, q0.as_mut_slice(), 0.0)
-            .map_err(|e| anyhow!("initial.place_on_ground: {e}"))?;
+            .map_err(|e| invalid!("initial.place_on_ground: {e}"))?;
     }
     let terrain = Terrain::preset(scenario.terrain.preset, scenario.terrain.mu);
     check_clear_of_terrain(&model, &terrain, &q0, scenario.sim.contact.point_spacing)?;
 
     let act = &scenario.actuation;
     let gains = match &act.pid_gains {
-        Some(path) => super::pid_gains::load(&model, &base_dir.join(path))
-            .map_err(|e| anyhow!("actuation.pid_gains: {e}"))?,
+        Some(path) => crate::pid_gains::load(&model, &base_dir.join(path))
+            .map_err(|e| invalid!("actuation.pid_gains: {e}"))?,
         None => ServoGains::high_gain(
             &model,
             q0.as_slice(),
             act.saturation_angle,
             act.damping_ratio,
         )
-        .map_err(|e| anyhow!("actuation: {e}"))?,
+        .map_err(|e| invalid!("actuation: {e}"))?,
     };
     let na = model.nv - first_actuated(&model);
     let command = match act.mode {
@@ -104,29 +104,29 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         q0.as_slice(),
         gains,
     )
-    .map_err(|e| anyhow!("sim: {e}"))?;
+    .map_err(|e| invalid!("sim: {e}"))?;
     for (k, push) in scenario.pushes.iter().enumerate() {
         model
             .frame_id(&push.frame)
-            .map_err(|e| anyhow!("push[{k}].frame: {e}"))?;
+            .map_err(|e| invalid!("push[{k}].frame: {e}"))?;
     }
     // A controller run adds its pushes at the handover (`corps run`), a plain simulation now.
     if scenario.controller.is_none() {
-        let pushes = super::pushes::schedule(
+        let pushes = crate::pushes::schedule(
             &scenario.pushes,
             0.0,
             scenario.duration,
             Some(model.total_mass()),
         )
-        .map_err(|e| anyhow!("{e}"))?;
+        .map_err(|e| invalid!("{e}"))?;
         for push in pushes {
-            sim.add_push(push).map_err(|e| anyhow!("push: {e}"))?;
+            sim.add_push(push).map_err(|e| invalid!("push: {e}"))?;
         }
     }
 
     let (layout, feet) = sensor_layout(scenario, robot.as_ref());
     let sensors = Sensors::new(&model, &layout, scenario.noise.clone(), scenario.seed)
-        .map_err(|e| anyhow!("sensors: {e}"))?;
+        .map_err(|e| invalid!("sensors: {e}"))?;
     let feet = feet
         .iter()
         .map(|(label, name)| {
@@ -135,12 +135,12 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
                 .iter()
                 .position(|(n, _)| n == name)
                 .ok_or_else(|| {
-                    anyhow!("sensors.feet: '{name}' is not one of the force_torque sensors")
+                    invalid!("sensors.feet: '{name}' is not one of the force_torque sensors")
                 })?;
             let frame = model.frame_id(&layout.force_torque[sensor].1)?;
             let joint = model.frames[frame]
                 .parent_joint
-                .ok_or_else(|| anyhow!("sensors.feet: '{name}' is fixed to the world"))?;
+                .ok_or_else(|| invalid!("sensors.feet: '{name}' is fixed to the world"))?;
             Ok(Foot {
                 label: label.clone(),
                 sensor,
@@ -155,7 +155,7 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         .as_deref()
         .map(|f| model.frame_id(f))
         .transpose()
-        .map_err(|e| anyhow!("sensors.imu: {e}"))?;
+        .map_err(|e| invalid!("sensors.imu: {e}"))?;
     let ticks = (scenario.duration / scenario.sim.control_dt).round() as usize;
     let criteria = scenario
         .verdict

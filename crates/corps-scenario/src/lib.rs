@@ -1,0 +1,40 @@
+//! corps scenarios as a library. A scenario file (TOML) names a robot description, a
+//! terrain, the simulator's settings, sensor noise and pushes, and for a closed-loop run a
+//! controller, its gains and a motion. This crate reads it ([`scenario`]), builds the world
+//! ([`setup`]), the controllers of seed 000 chapter 4 ([`controller`], [`gains`]), the
+//! estimator ([`estimation`]) and the references ([`motion`], [`walk`], [`dynamic_filter`]),
+//! closes the loop through [`corps_loop`] and returns the [`metrics`], the verdict and the
+//! time series in memory ([`run`]). Writing files and printing belong to the caller.
+//!
+//! ```no_run
+//! use corps_scenario::{run::{RunOptions, ScenarioRun}, scenario::Scenario};
+//! let text = std::fs::read_to_string("scenarios/control/tsid_torque_push_front.toml")?;
+//! let scenario = Scenario::parse(&text)?;
+//! let run = ScenarioRun::new(&scenario, "push", "scenarios/control".as_ref(), RunOptions::default())?;
+//! let result = run.run(&mut [])?;
+//! println!("{}", result.metrics.verdict);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod controller;
+pub mod default_robot;
+pub mod dynamic_filter;
+pub mod error;
+pub mod estimation;
+pub mod foot;
+pub mod gains;
+mod gait;
+pub mod metrics;
+pub mod motion;
+pub mod numbers;
+pub mod pid_gains;
+pub mod pushes;
+pub mod run;
+pub mod scenario;
+pub mod sensor_profile;
+pub mod series;
+pub mod setup;
+pub mod targets;
+pub mod walk;
+
+pub use error::{Result, ScenarioError};

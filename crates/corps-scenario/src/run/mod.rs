@@ -1,0 +1,375 @@
+//! A scenario's closed-loop run. [`ScenarioRun::new`] builds the robot, the simulated plant,
+//! the estimator, the controller and the motion from a parsed [`Scenario`] and lets the robot
+//! settle under the joint PD hold; [`ScenarioRun::run`] then closes the loop
+//! ([`corps_loop::ClosedLoop`]) and returns the metrics, the verdict and a bounded copy of the
+//! time series in memory. Rows go to any [`RowSink`] the caller adds (a CSV file, a live plot)
+//! as the run goes; this crate writes no file.
+
+mod columns;
+mod contacts;
+mod recorder;
+
+pub use columns::log_columns;
+
+use crate::controller::{
+    self, behind_stabilizer, ControllerKind, IkController, ScenarioController,
+};
+use crate::controller::{TsidController, TsidMode};
+use crate::error::{bail, invalid, Context, Result};
+use crate::estimation;
+use crate::gains;
+use crate::metrics::{FootMetrics, Metrics, WalkMetrics, WalkingErrors};
+use crate::motion::{self, MotionPlan, MotionSection};
+use crate::scenario::Scenario;
+use crate::series::PlotBuffer;
+use crate::setup::{self, Setup};
+use crate::{dynamic_filter, ScenarioError};
+use corps_estimation::KinematicEstimator;
+use corps_loop::verdict::VerdictObserver;
+use corps_loop::{ClosedLoop, LoopEnd, LoopSettings};
+use corps_model::STANDARD_GRAVITY as GRAVITY;
+use corps_model::{com_at_placements, frame_placement};
+use corps_sim::{Overlap, SimulatedRobot};
+use nalgebra::Vector3;
+use recorder::{Recorder, RecorderSetup};
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Receives every row of the time series as the run goes ([`log_columns`] order).
+pub trait RowSink: Send {
+    /// Row `index` (one per control tick). An error stops the run and is returned by it.
+    fn row(&mut self, index: usize, row: &[f64]) -> Result<(), ScenarioError>;
+}
+
+/// How a run executes.
+#[derive(Clone, Copy, Debug)]
+pub struct RunOptions {
+    /// Whether the simulator prepares its next step on a second thread while the controller
+    /// computes (bit-identical to the serial run).
+    pub overlap: Overlap,
+    /// Raised to stop the run at the next tick: it then returns what it has, marked
+    /// interrupted.
+    pub interrupt: Option<&'static AtomicBool>,
+}
+
+impl Default for RunOptions {
+    /// One thread, no interrupt: for tests and for rollouts run side by side.
+    fn default() -> Self {
+        Self {
+            overlap: Overlap::Never,
+            interrupt: None,
+        }
+    }
+}
+
+/// What a run returns.
+pub struct RunResult {
+    pub metrics: Metrics,
+    /// The time series' columns, and a bounded, decimated copy of its rows.
+    pub columns: Vec<String>,
+    pub series: PlotBuffer,
+}
+
+/// A scenario ready to run: built, checked and settled.
+pub struct ScenarioRun {
+    closed_loop: ClosedLoop<SimulatedRobot, KinematicEstimator, ScenarioController, MotionPlan>,
+    settings: LoopSettings,
+    recorder: RecorderSetup,
+    metrics: Metrics,
+    verdict: VerdictObserver,
+    columns: Vec<String>,
+    handover: f64,
+    feet0: [corps_model::spatial::Se3; 2],
+    mass: f64,
+    interrupt: Option<&'static AtomicBool>,
+}
+
+impl ScenarioRun {
+    /// Builds `scenario` (named `name`; relative paths resolve from `base_dir`) and lets the
+    /// robot settle for `[controller] settle`. Every error of the input comes from here,
+    /// before a tick runs.
+    pub fn new(
+        scenario: &Scenario,
+        name: &str,
+        base_dir: &Path,
+        options: RunOptions,
+    ) -> Result<Self> {
+        let Some(section) = &scenario.controller else {
+            bail!("no [controller] section: this is a `corps sim` scenario");
+        };
+        let Setup {
+            robot,
+            criteria,
+            model,
+            mut sim,
+            sensors,
+            command: hold,
+            q0,
+            feet: foot_sensors,
+            imu_frame,
+            ..
+        } = setup::build(scenario, base_dir)?;
+        let Some(robot) = robot else {
+            bail!(
+                "robot: corps run needs a robot description (robot.description), not a bare URDF"
+            );
+        };
+        let source = gains::GainsSource::resolve(
+            section.gains.as_deref(),
+            section.kind.name(),
+            &robot,
+            base_dir,
+        )
+        .context("controller.gains")?;
+        let soles = controller::two_feet(&robot)?;
+        let dt = scenario.sim.control_dt;
+        let settle_ticks = (section.settle / dt).round() as usize;
+        for _ in 0..settle_ticks {
+            if options.interrupt.is_some_and(|f| f.load(Ordering::Relaxed)) {
+                return Err(ScenarioError::Interrupted { t: 0.0 });
+            }
+            sim.step(&hold)?;
+        }
+        let handover = sim.time();
+        // Pushes count from the handover (the setup added none).
+        let pushes = crate::pushes::schedule(
+            &scenario.pushes,
+            sim.time(),
+            scenario.duration,
+            Some(model.total_mass()),
+        )
+        .map_err(|e| invalid!("{e}"))?;
+        for push in pushes {
+            sim.add_push(push)?;
+        }
+        let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
+        let mass = model.total_mass();
+        let (inner, stabilized) = match section.kind {
+            ControllerKind::TsidTorque | ControllerKind::TsidPosition => {
+                let mode = if section.kind == ControllerKind::TsidTorque {
+                    TsidMode::Torque
+                } else {
+                    TsidMode::Position
+                };
+                let g: gains::TsidGains =
+                    gains::load(&source, &section.set).context("controller.gains")?;
+                let stabilizer = g.stabilizer.clone();
+                let inner =
+                    TsidController::new(&robot, mode, g, dt, &q, &v, &q0).context("controller")?;
+                if mode == TsidMode::Torque && stabilizer.is_some() {
+                    bail!("controller.gains: [stabilizer] is for the position-mode controllers")
+                }
+                let ctrl = behind_stabilizer(inner, stabilizer.as_ref(), soles[0], mass, dt)
+                    .context("controller.gains.stabilizer")?;
+                (ctrl, stabilizer.is_some())
+            }
+            ControllerKind::IkPosition => {
+                let g: gains::IkGainsFile =
+                    gains::load(&source, &section.set).context("controller.gains")?;
+                let stabilizer = g.stabilizer.clone();
+                let inner = IkController::new(&robot, g, dt, &q, &q0).context("controller")?;
+                let ctrl = behind_stabilizer(inner, stabilizer.as_ref(), soles[0], mass, dt)
+                    .context("controller.gains.stabilizer")?;
+                (ctrl, stabilizer.is_some())
+            }
+        };
+        let ankles = soles.map(|f| {
+            f.ankle
+                .map(|j| model.joints[j].idx_v - model.first_actuated())
+        });
+        let soles = soles.map(|f| f.frame);
+        let foot_joints = soles.map(|f| model.frames[f].parent_joint.unwrap_or(usize::MAX));
+        let mut estimator = estimation::build(
+            &scenario.estimator,
+            &model,
+            &foot_sensors,
+            soles,
+            imu_frame,
+            scenario.sim.gravity,
+            scenario.force_torque_model == corps_sim::ForceTorqueModel::Transmitted,
+        )?;
+        corps_estimation::Estimator::reset(&mut estimator, q.as_slice(), v.as_slice())?;
+        let (model_ref, data) = (sim.model(), sim.data());
+        let (com0, _) = com_at_placements(model_ref, data);
+        let feet0 = [
+            frame_placement(model_ref, data, soles[0])?,
+            frame_placement(model_ref, data, soles[1])?,
+        ];
+        let ticks = (scenario.duration / dt).round() as usize;
+        let mut plan = MotionPlan::new(
+            &robot,
+            scenario.motion.clone(),
+            motion::Handover {
+                com: com0,
+                feet: feet0,
+            },
+            dt,
+            scenario.duration,
+            base_dir,
+            sim.terrain(),
+        )?;
+        let dynamic_filter = match &scenario.motion {
+            MotionSection::Walk(w) if w.dynamic_filter => Some(
+                dynamic_filter::filter_walk(&robot, &q, &q0, &mut plan, ticks)
+                    .context("motion.dynamic_filter")?,
+            ),
+            _ => None,
+        };
+        let walking_window = plan.walk().and_then(|w| w.walking_window());
+        let metrics = Metrics {
+            scenario: name.to_string(),
+            controller: section.kind.label().to_string(),
+            duration: ticks as f64 * dt,
+            feet: ["left", "right"]
+                .map(|label| FootMetrics {
+                    label: label.into(),
+                    ..Default::default()
+                })
+                .to_vec(),
+            min_base_height: f64::INFINITY,
+            while_walking: walking_window.map(|(start, end)| WalkingErrors {
+                start,
+                end,
+                ..Default::default()
+            }),
+            estimator: scenario.estimator.kind,
+            sensor_noise: if scenario.noise == corps_sim::SensorNoise::default() {
+                "noiseless".into()
+            } else {
+                "the scenario's [noise]".into()
+            },
+            thesis: scenario.thesis.clone(),
+            walk: dynamic_filter.map(|f| WalkMetrics {
+                dynamic_filter: Some(f),
+                ..Default::default()
+            }),
+            ..Default::default()
+        };
+        let verdict =
+            VerdictObserver::new(criteria, mass * GRAVITY, com0.z - recorder::support(&feet0))
+                .context("verdict")?;
+        let columns = log_columns(stabilized);
+        let base0 = Vector3::new(q[0], q[1], q[2]);
+        let current = plan.initial_targets();
+        Ok(Self {
+            closed_loop: ClosedLoop {
+                plant: SimulatedRobot::new(sim, sensors, options.overlap),
+                estimator,
+                controller: ScenarioController::new(inner),
+                references: plan,
+                current,
+            },
+            settings: LoopSettings {
+                dt,
+                ticks,
+                feed: estimation::feed(scenario.estimator.kind),
+            },
+            recorder: RecorderSetup {
+                model,
+                soles,
+                foot_joints,
+                ankles,
+                base0,
+                walking_window,
+                stabilized,
+                dt,
+                columns: columns.len(),
+            },
+            metrics,
+            verdict,
+            columns,
+            handover,
+            feet0,
+            mass,
+            interrupt: options.interrupt,
+        })
+    }
+
+    /// The time series' columns.
+    pub fn columns(&self) -> &[String] {
+        &self.columns
+    }
+
+    /// Control ticks the run will take at most.
+    pub fn ticks(&self) -> usize {
+        self.settings.ticks
+    }
+
+    /// Control period (s).
+    pub fn dt(&self) -> f64 {
+        self.settings.dt
+    }
+
+    /// Closes the loop until the scenario's end, a fall, a divergence or the interrupt; feeds
+    /// every row to `sinks`.
+    pub fn run(self, sinks: &mut [&mut dyn RowSink]) -> Result<RunResult> {
+        let Self {
+            mut closed_loop,
+            settings,
+            recorder,
+            metrics,
+            verdict,
+            columns,
+            handover,
+            feet0,
+            mass,
+            interrupt,
+        } = self;
+        let dt = settings.dt;
+        let base0 = recorder.base0;
+        let mut rec = Recorder::new(recorder, metrics, verdict, sinks);
+        let outcome = closed_loop.run(&settings, &mut [&mut rec], interrupt)?;
+        if let Some(e) = rec.sink_error.take() {
+            return Err(e);
+        }
+        let mut m = std::mem::take(&mut rec.metrics);
+        m.duration = outcome.ticks_run as f64 * dt;
+        match outcome.end {
+            LoopEnd::Interrupted => m.interrupted_at = Some(m.duration),
+            LoopEnd::Diverged { t, reason } => rec
+                .verdict
+                .diverged(t - handover, format!("the simulation: {reason}")),
+            LoopEnd::Completed | LoopEnd::Stopped => {}
+        }
+        m.tick_time = rec.tick_time.summary();
+        m.verdict = rec.verdict.finish(m.duration);
+        m.overlapped_ticks = closed_loop.plant.overlap_counts().0;
+        m.estimator_errors = rec.estimator_errors;
+        m.first_estimator_error = rec.first_estimator_error.take();
+        let sim = closed_loop.plant.into_simulator()?;
+        if let Some(walk) = closed_loop.references.walk() {
+            // Where the plan puts the base: its final feet midpoint plus the base's starting
+            // offset from the feet midpoint.
+            let r = walk.final_reference();
+            let mid = walk.world(Vector3::new(
+                (r.left_foot.x + r.right_foot.x) / 2.0,
+                (r.left_foot.y + r.right_foot.y) / 2.0,
+                0.0,
+            ));
+            let mid0 = (feet0[0].translation + feet0[1].translation) / 2.0;
+            let planned = mid + (base0 - mid0);
+            let q = sim.q();
+            let base = Vector3::new(q[0], q[1], q[2]);
+            let distance = (base - base0).xy().norm();
+            let weight = mass * GRAVITY * distance.max(1e-9);
+            let dynamic_filter = m.walk.take().and_then(|w| w.dynamic_filter);
+            m.walk = Some(WalkMetrics {
+                distance,
+                final_base_error: (base - planned).xy().norm(),
+                cost_of_transport: m.work / weight,
+                mechanical_cost_of_transport: m.positive_work / weight,
+                passivity_gait_measure: rec.pgm.values(),
+                dynamic_filter,
+            });
+        }
+        for (foot, sum) in m.feet.iter_mut().zip(rec.force_sum) {
+            foot.force_mean = sum / outcome.ticks_run.max(1) as f64;
+        }
+        m.against_thesis = m.thesis_comparison();
+        Ok(RunResult {
+            metrics: m,
+            columns,
+            series: std::mem::replace(&mut rec.series, PlotBuffer::new(0)),
+        })
+    }
+}
