@@ -19,17 +19,12 @@ pub struct MinJerk {
 
 impl MinJerk {
     pub fn sample(&self, t: f64) -> Reference {
-        let tau = ((t - self.t0) / self.duration).clamp(0.0, 1.0);
         let (s, ds, dds) = if t < self.t0 || t > self.t0 + self.duration || self.duration <= 0.0 {
             (if t < self.t0 { 0.0 } else { 1.0 }, 0.0, 0.0)
         } else {
-            let t2 = tau * tau;
             let d = self.duration;
-            (
-                t2 * tau * (10.0 - 15.0 * tau + 6.0 * t2),
-                30.0 * t2 * (1.0 - 2.0 * tau + t2) / d,
-                60.0 * tau * (1.0 - 3.0 * tau + 2.0 * t2) / (d * d),
-            )
+            let [s, ds, dds] = corps_model::min_jerk::min_jerk((t - self.t0) / d);
+            (s, ds / d, dds / (d * d))
         };
         let delta = &self.end - &self.start;
         Reference {

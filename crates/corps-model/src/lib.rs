@@ -35,9 +35,11 @@ mod error;
 mod frame;
 mod geometry;
 mod joint;
+pub mod min_jerk;
 mod model;
 pub mod parse;
 pub mod spatial;
+pub mod support;
 
 pub use algorithms::aba::{aba, aba_with_external_forces};
 pub use algorithms::all_terms::compute_all_terms;

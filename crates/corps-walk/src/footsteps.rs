@@ -570,7 +570,6 @@ impl FootstepPlan {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::support_polygon::ConvexPolygon;
 
     #[test]
     fn com_ground_climbs_each_stair_smoothly_over_a_step_period() {
@@ -657,9 +656,9 @@ mod tests {
             );
             prev = s.zmp;
             let poly = match s.phase {
-                ContactPhase::Double => ConvexPolygon::double_support(&s.left, &s.right, &g),
-                ContactPhase::LeftSupport => ConvexPolygon::foot(&s.left, &g),
-                ContactPhase::RightSupport => ConvexPolygon::foot(&s.right, &g),
+                ContactPhase::Double => g.double_support(&s.left, &s.right),
+                ContactPhase::LeftSupport => g.sole_polygon(&s.left),
+                ContactPhase::RightSupport => g.sole_polygon(&s.right),
             };
             assert!(poly.contains(&s.zmp.xy(), 1e-12), "t = {t}");
             t += 0.001;

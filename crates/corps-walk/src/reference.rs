@@ -5,39 +5,7 @@
 use crate::pose::{waist_yaw, FootPose, FootVelocity};
 use nalgebra::{Vector2, Vector3};
 
-/// Contact phase (seed 002 §4.11: `0` = double support, `1` = left-foot support, `−1` =
-/// right-foot support, as sot-pattern-generator encodes it).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum ContactPhase {
-    /// Both feet on the ground.
-    #[default]
-    Double,
-    /// Single support on the left foot (the right foot swings).
-    LeftSupport,
-    /// Single support on the right foot (the left foot swings).
-    RightSupport,
-}
-
-impl ContactPhase {
-    /// Integer code of seed 002 §4.11: 0, 1, −1.
-    pub fn code(self) -> i8 {
-        match self {
-            ContactPhase::Double => 0,
-            ContactPhase::LeftSupport => 1,
-            ContactPhase::RightSupport => -1,
-        }
-    }
-
-    /// `true` when the left foot is in contact.
-    pub fn left_in_contact(self) -> bool {
-        self != ContactPhase::RightSupport
-    }
-
-    /// `true` when the right foot is in contact.
-    pub fn right_in_contact(self) -> bool {
-        self != ContactPhase::LeftSupport
-    }
-}
+pub use corps_model::support::ContactPhase;
 
 /// One sample of a walking reference.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

@@ -8,7 +8,7 @@ mod common {
 
 use corps_walk::lipm::jerk_integrator;
 use corps_walk::mpc::{VelocityCommand, WalkingMpc};
-use corps_walk::{waist_yaw, ContactPhase, ConvexPolygon, WalkingReference};
+use corps_walk::{waist_yaw, ContactPhase, WalkingReference};
 use nalgebra::Vector3;
 
 /// Worst signed distance of the ZMP to the support polygon (TALOS soles) of the reference's
@@ -16,9 +16,9 @@ use nalgebra::Vector3;
 fn zmp_margin(r: &WalkingReference) -> f64 {
     let sole = common::talos::TALOS_SOLE;
     let poly = match r.phase {
-        ContactPhase::Double => ConvexPolygon::double_support(&r.left_foot, &r.right_foot, &sole),
-        ContactPhase::LeftSupport => ConvexPolygon::foot(&r.left_foot, &sole),
-        ContactPhase::RightSupport => ConvexPolygon::foot(&r.right_foot, &sole),
+        ContactPhase::Double => sole.double_support(&r.left_foot, &r.right_foot),
+        ContactPhase::LeftSupport => sole.sole_polygon(&r.left_foot),
+        ContactPhase::RightSupport => sole.sole_polygon(&r.right_foot),
     };
     poly.signed_distance(&r.zmp.xy())
 }

@@ -6,7 +6,7 @@ mod common {
 }
 
 use corps_walk::preview_walk::PreviewWalk;
-use corps_walk::{ContactPhase, ConvexPolygon, Foot, FootstepPlan, StepTiming};
+use corps_walk::{ContactPhase, Foot, FootstepPlan, StepTiming};
 
 /// Walks `plan` to the end plus 3 s; returns (max |ZMP − ZMP_ref|, max signed distance of the
 /// ZMP to the support polygon, final CoM error to the middle of the feet, final CoM speed).
@@ -21,11 +21,9 @@ fn walk(plan: FootstepPlan) -> (f64, f64, f64, f64) {
         let s = plan.sample(g.plan_time(r.time));
         max_err = max_err.max((r.zmp.xy() - s.zmp.xy()).norm());
         let poly = match r.phase {
-            ContactPhase::Double => {
-                ConvexPolygon::double_support(&r.left_foot, &r.right_foot, &sole)
-            }
-            ContactPhase::LeftSupport => ConvexPolygon::foot(&r.left_foot, &sole),
-            ContactPhase::RightSupport => ConvexPolygon::foot(&r.right_foot, &sole),
+            ContactPhase::Double => sole.double_support(&r.left_foot, &r.right_foot),
+            ContactPhase::LeftSupport => sole.sole_polygon(&r.left_foot),
+            ContactPhase::RightSupport => sole.sole_polygon(&r.right_foot),
         };
         max_out = max_out.max(poly.signed_distance(&r.zmp.xy()));
         // waist yaw is recomputed from the feet every tick (seed 002 §4.13)

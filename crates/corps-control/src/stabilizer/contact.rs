@@ -46,34 +46,7 @@ impl Wrench {
     }
 }
 
-/// Contact phase (seed 002 §4.11: 0 = double support, 1 = left support, −1 = right support).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ContactPhase {
-    Double,
-    LeftSupport,
-    RightSupport,
-}
-
-impl ContactPhase {
-    /// From the integer encoding of seed 002 §4.11.
-    pub fn from_code(code: i32) -> Option<Self> {
-        match code {
-            0 => Some(Self::Double),
-            1 => Some(Self::LeftSupport),
-            -1 => Some(Self::RightSupport),
-            _ => None,
-        }
-    }
-
-    /// Whether foot `i` (0 = left, 1 = right) is in contact.
-    pub fn in_contact(&self, i: usize) -> bool {
-        match self {
-            Self::Double => true,
-            Self::LeftSupport => i == LEFT,
-            Self::RightSupport => i == RIGHT,
-        }
-    }
-}
+pub use corps_model::support::ContactPhase;
 
 /// Index of the left foot in per-foot arrays.
 pub const LEFT: usize = 0;

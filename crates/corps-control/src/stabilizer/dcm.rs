@@ -9,7 +9,7 @@
 //! support polygon; while it is clamped the integral is frozen (anti-windup) and `|I|` is
 //! bounded by `integral_limit` per axis.
 
-use super::polygon::ConvexPolygon;
+use corps_model::support::ConvexPolygon;
 use nalgebra::Vector2;
 
 /// Gains and integrator settings of [`DcmController`].

@@ -33,7 +33,6 @@ pub mod ankle_admittance;
 pub mod com_admittance;
 pub mod contact;
 pub mod dcm;
-pub mod polygon;
 pub mod wrench_distribution;
 
 pub use ankle_admittance::{AnkleAdmittance, AnkleAdmittanceSettings, AnkleCommand};
@@ -41,8 +40,8 @@ pub use com_admittance::{ComAdmittance, ComAdmittanceSettings, ComReference};
 pub use contact::{
     zmp_from_feet, zmp_of, ContactPhase, Sole, Wrench, DEFAULT_FRICTION, LEFT, RIGHT,
 };
+pub use corps_model::support::ConvexPolygon;
 pub use dcm::{DcmController, DcmGains, DcmOutput};
-pub use polygon::ConvexPolygon;
 pub use wrench_distribution::{Distribution, DistributionSettings, WrenchDistribution};
 
 use crate::error::{ControlError, Result};
