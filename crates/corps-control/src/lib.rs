@@ -1,7 +1,8 @@
 //! # corps-control
 //!
 //! Whole-body controllers. A [`RobotState`] computes the model terms once per tick; tasks
-//! ([`tasks`]) turn them into affine rows on the joint accelerations; contacts ([`contacts`])
+//! ([`Task`], [`tasks`]) turn them into affine rows on the joint accelerations or velocities
+//! and sit, named, weighted and prioritized, in a [`TaskStack`]; contacts ([`contacts`])
 //! add force variables and constraints; a formulation ([`formulation`]) stacks them into one
 //! QP solved by `corps-qp`. The inverse-dynamics formulation reproduces TSID's
 //! (`tests/tsid_crosscheck.rs` rebuilds 25 of TSID's TALOS QPs and matches its solutions).
@@ -20,9 +21,12 @@ pub mod fallback;
 pub mod formulation;
 mod robot_state;
 pub mod stabilizer;
+mod stack;
 pub mod tasks;
 pub mod trajectories;
 
 pub use error::{ControlError, Result};
 pub use fallback::{safe_torques, FallbackReason};
 pub use robot_state::RobotState;
+pub use stack::{TaskEntry, TaskStack};
+pub use tasks::{Task, TaskLevel};

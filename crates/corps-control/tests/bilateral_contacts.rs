@@ -5,6 +5,7 @@
 
 mod common;
 use common::*;
+use corps_control::tasks::ComTask;
 
 /// ZMP (y) of the QP's contact forces with the CoM reference accelerating by `acc_y` sideways,
 /// and the LIPM ZMP `c − c̈/ω²` that acceleration asks for.
@@ -13,7 +14,7 @@ fn zmp_y(bilateral: bool, acc_y: f64) -> (f64, f64) {
     for c in &mut id.contacts {
         c.bilateral = bilateral;
     }
-    let (com, _) = id.com.as_mut().unwrap();
+    let com = id.tasks.task_mut::<ComTask>("com").unwrap();
     com.reference.acc[1] = acc_y;
     let soles: Vec<_> = id
         .contacts

@@ -7,6 +7,7 @@
 mod common;
 use common::*;
 use corps_control::formulation::{IkGains, InverseKinematics, StackFrames};
+use corps_control::tasks::velocity::ComVelocityTask;
 use corps_control::tasks::Reference;
 use corps_control::RobotState;
 use nalgebra::{DVector, Vector3};
@@ -43,7 +44,7 @@ fn ik_kinematic_loop_converges() {
     let c0 = state.data.com;
     let target = c0 + Vector3::new(0.01, 0.02, -0.03);
     for name in ["com_height", "com_xy"] {
-        ik.task_mut(name).unwrap().as_com_mut().unwrap().reference =
+        ik.task_mut::<ComVelocityTask>(name).unwrap().reference =
             Reference::constant(DVector::from_column_slice(target.as_slice()));
     }
     let lf = model.frame_id("leg_left_sole_fix_joint").unwrap();

@@ -6,7 +6,7 @@
 mod common;
 use common::*;
 use corps_control::contacts::Contact;
-use corps_control::tasks::{ContactForceTask, JointBoundsTask, Se3Reference};
+use corps_control::tasks::{ContactForceTask, JointBoundsTask, PostureTask, Se3Reference};
 use corps_model::spatial::Motion;
 use nalgebra::{DVector, Vector3, Vector6};
 
@@ -23,7 +23,7 @@ fn joint_bounds_keep_a_fast_joint_from_crossing_its_limit() {
     let mut v = DVector::zeros(model.nv);
     v[iv] = 0.5;
     state.update(&model, q.as_slice(), v.as_slice()).unwrap();
-    id.posture.as_mut().unwrap().0.q_ref[iq] = q_max + 0.5;
+    id.tasks.task_mut::<PostureTask>("posture").unwrap().q_ref[iq] = q_max + 0.5;
     let h = 0.01;
     id.joint_bounds = Some(JointBoundsTask::new(&model, h));
     let out = id.compute(&model, &state).unwrap();

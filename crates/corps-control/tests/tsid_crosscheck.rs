@@ -7,6 +7,7 @@
 
 #[path = "common/tsid.rs"]
 mod tsid;
+use corps_control::tasks::{AngularMomentumTask, ComTask, PostureTask};
 use corps_control::RobotState;
 use corps_model::{build_model_from_urdf_file, RootJoint};
 use corps_testkit::assert_close;
@@ -46,21 +47,23 @@ fn inverse_dynamics_reproduces_tsid_on_talos() {
         let mut id = configure(&model, tick);
         id.build(&model, &state).unwrap();
         // Task by task.
-        let (com, _) = id.com.as_mut().unwrap();
+        let com = id.tasks.task_mut::<ComTask>("com").unwrap();
         assert_close(
             &ctx("CoM rhs"),
             com.compute(&state).b.as_slice(),
             &vecf(&tick["com"]["computed"]["rhs"]),
             1e-9,
         );
-        let (post, _) = id.posture.as_mut().unwrap();
+        let post = id.tasks.task_mut::<PostureTask>("posture").unwrap();
         assert_close(
             &ctx("posture rhs"),
             post.compute(&model, &state).b.as_slice(),
             &vecf(&tick["posture"]["computed"]["rhs"]),
             1e-9,
         );
-        let (am, _) = id.angular_momentum.as_mut().unwrap();
+        let am = (id.tasks)
+            .task_mut::<AngularMomentumTask>("angular_momentum")
+            .unwrap();
         assert_close(
             &ctx("AM rhs"),
             am.compute(&state).b.as_slice(),

@@ -4,18 +4,18 @@
 //!   contact's motion task `J q̈ = a_des − J̇ v`;
 //! - inequalities: each contact's friction pyramid and normal-force bounds, and the actuation
 //!   bounds `τ_min − h_a ≤ M_a q̈ − Jc_aᵀ f ≤ τ_max − h_a`;
-//! - cost: Σ w‖A_k x − b_k‖² over the priority-1 tasks (contact force regularizations, CoM,
-//!   posture, angular momentum, other frame tasks), plus 1e-8‖x‖² (TSID's Hessian
-//!   regularization).
+//!   and the rows of the stack's priority-0 tasks `A q̈ = b`;
+//! - cost: Σ w‖A_k x − b_k‖² over the stack's priority-1 tasks (any [`crate::Task`] of acceleration
+//!   level: CoM, posture, angular momentum, frames, ...) and the contact force
+//!   regularizations and force tasks, plus 1e-8‖x‖² (TSID's Hessian regularization).
 //!
 //! Torques follow from the actuated rows: `τ = M_a q̈ + h_a − Jc_aᵀ f`.
 
 use crate::contacts::Contact;
 use crate::error::{ControlError, Result};
 use crate::robot_state::RobotState;
-use crate::tasks::{
-    AngularMomentumTask, ComTask, ContactForceTask, JointBoundsTask, PostureTask, Se3Task, TaskRows,
-};
+use crate::stack::TaskStack;
+use crate::tasks::{ContactForceTask, JointBoundsTask, TaskLevel, TaskRows};
 use corps_model::Model;
 use corps_qp::{ActiveSetSolver, QpProblem};
 use nalgebra::{DMatrix, DVector};
@@ -52,11 +52,8 @@ struct Transition {
 
 /// The weighted inverse-dynamics controller.
 pub struct InverseDynamics {
-    pub com: Option<(ComTask, f64)>,
-    pub posture: Option<(PostureTask, f64)>,
-    pub angular_momentum: Option<(AngularMomentumTask, f64)>,
-    /// Frame tasks in the cost (e.g. a swing foot), with weights.
-    pub frames: Vec<(Se3Task, f64)>,
+    /// The motion tasks: priority 0 equalities, priority 1 weighted costs.
+    pub tasks: TaskStack,
     pub contacts: Vec<Contact>,
     /// Actuation bounds (na each), a hard inequality when set.
     pub actuation: Option<(DVector<f64>, DVector<f64>)>,
@@ -85,10 +82,7 @@ impl InverseDynamics {
         let first = if model.has_free_flyer() { 6 } else { 0 };
         let na = model.nv - first;
         Self {
-            com: None,
-            posture: None,
-            angular_momentum: None,
-            frames: Vec::new(),
+            tasks: TaskStack::new(TaskLevel::Acceleration),
             contacts: Vec::new(),
             actuation: None,
             joint_bounds: None,
@@ -186,8 +180,10 @@ impl InverseDynamics {
         });
     }
 
-    /// Advances contact transitions to time `t` (call once per tick before `compute`).
+    /// Advances contact transitions and task weight ramps to time `t` (call once per tick
+    /// before `compute`).
     pub fn update_transitions(&mut self, t: f64) {
+        self.tasks.update(t);
         let mut k_done = Vec::new();
         for (i, tr) in self.transitions.iter().enumerate() {
             let Some(k) = self.contacts.iter().position(|c| c.name == tr.contact) else {
@@ -259,11 +255,26 @@ impl InverseDynamics {
         let n_motion: usize = c.iter().map(Contact::n_motion).sum();
         let n_rows: usize = c.iter().map(Contact::n_rows).sum();
         let n_in = n_rows + if self.actuation.is_some() { na } else { 0 };
-        (model.nv + n_force, self.first + n_motion, n_in)
+        let n_task_eq: usize = (self.tasks.entries().iter())
+            .filter(|e| e.priority == 0)
+            .map(|e| e.task.dim())
+            .sum();
+        (model.nv + n_force, self.first + n_motion + n_task_eq, n_in)
     }
 
-    /// Builds the QP at state `s` into `self.problem` (resizing only when contacts change).
+    /// Builds the QP at state `s` into `self.problem` (resizing only when contacts or the
+    /// stack's equalities change).
     pub fn build(&mut self, model: &Model, s: &RobotState) -> Result<()> {
+        if let Some(e) = self.tasks.entries().iter().find(|e| e.priority > 1) {
+            return Err(ControlError::Config {
+                name: format!("task '{}'", e.name),
+                reason: format!(
+                    "priority {}: the weighted inverse dynamics has two levels, 0 \
+                     (equalities) and 1 (costs)",
+                    e.priority
+                ),
+            });
+        }
         let (n, n_eq, n_in) = self.dims(model);
         if self.problem.dims() != (n, n_eq, n_in) {
             self.problem = QpProblem::new(n, n_eq, n_in);
@@ -335,6 +346,17 @@ impl InverseDynamics {
             r_eq += nm;
             r_in += contact.n_rows();
         }
+        // The stack's equalities.
+        for e in self.tasks.entries_mut() {
+            if e.priority != 0 {
+                continue;
+            }
+            let rows = e.task.compute(model, s)?;
+            let m = rows.rows();
+            copy_block(&mut p.a, (r_eq, 0), &rows.a, (0, 0), (m, nv));
+            p.b.rows_mut(r_eq, m).copy_from(&rows.b);
+            r_eq += m;
+        }
         // Actuation bounds.
         if let Some((lower, upper)) = &self.actuation {
             let r0 = r_in;
@@ -362,23 +384,13 @@ impl InverseDynamics {
                 p.ux[first + k] = bounds.upper[k];
             }
         }
-        // Cost terms on q̈.
+        // Cost terms on q̈, in the stack's order.
         let row = &mut self.scratch;
-        if let Some((task, w)) = &mut self.com {
-            add_least_squares(&mut p.h, &mut p.g, task.compute(s), *w, row);
-        }
-        if let Some((task, w)) = &mut self.posture {
-            let rows = task.compute(model, s);
-            for k in 0..rows.rows() {
-                p.h[(first + k, first + k)] += *w;
-                p.g[first + k] -= *w * rows.b[k];
+        for e in self.tasks.entries_mut() {
+            if e.priority == 1 {
+                let rows = e.task.compute(model, s)?;
+                add_task_cost(&mut p.h, &mut p.g, rows, e.weight, row);
             }
-        }
-        if let Some((task, w)) = &mut self.angular_momentum {
-            add_least_squares(&mut p.h, &mut p.g, task.compute(s), *w, row);
-        }
-        for (task, w) in &mut self.frames {
-            add_least_squares(&mut p.h, &mut p.g, task.compute(model, s)?, *w, row);
         }
         for i in 0..n {
             p.h[(i, i)] += HESSIAN_REGULARIZATION;
@@ -417,6 +429,26 @@ impl InverseDynamics {
             self.output.tau[k] = t;
         }
         Ok(&self.output)
+    }
+}
+
+/// `H += w AᵀA` and `g −= w Aᵀ b` for a task's rows: on the diagonal for a selection (a
+/// joint-space task), else by [`add_least_squares`].
+fn add_task_cost(
+    h: &mut DMatrix<f64>,
+    g: &mut DVector<f64>,
+    rows: &TaskRows,
+    w: f64,
+    scratch: &mut RowScratch,
+) {
+    match rows.selection {
+        Some(first) => {
+            for k in 0..rows.rows() {
+                h[(first + k, first + k)] += w;
+                g[first + k] -= w * rows.b[k];
+            }
+        }
+        None => add_least_squares(h, g, rows, w, scratch),
     }
 }
 

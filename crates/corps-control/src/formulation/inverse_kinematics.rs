@@ -19,8 +19,9 @@
 //! target `q_des = q ⊕ dt·v*`, integrated once as the thesis does (§3.7, L4538–L4550), from
 //! a configuration the caller chooses (the previous `q_des` for a position-servoed robot).
 //!
-//! Tasks live in a stack with integer priorities (several tasks may share a priority; their
-//! rows are then weighted inside the level). [`InverseKinematics::standing_stack`] builds the
+//! Tasks live in a [`TaskStack`] of velocity-level tasks with integer priorities (several
+//! tasks may share a priority; their rows are then weighted inside the level, and a weight
+//! may ramp at run time without rebuilding the levels). [`InverseKinematics::standing_stack`] builds the
 //! hierarchy of Table 4.1 with the IK gains of Table 4.3: 0 both feet (6D contact, LOCAL),
 //! 1 CoM height, 2 CoM x/y, 3 waist orientation, 4 posture.
 //!
@@ -30,67 +31,13 @@
 
 use crate::error::{ControlError, Result};
 use crate::robot_state::RobotState;
+use crate::stack::TaskStack;
 use crate::tasks::velocity::{ComVelocityTask, FrameVelocityTask, PostureVelocityTask};
-use crate::tasks::{Reference, Se3Reference, TaskRows};
+use crate::tasks::{Reference, Se3Reference, Task, TaskLevel};
 use corps_model::spatial::Motion;
 use corps_model::{integrate_to, JointKind, Model};
 use corps_qp::{HierarchicalQp, Level};
 use nalgebra::{DMatrix, DVector, Vector3, Vector6};
-
-/// A velocity-level task of the stack.
-pub enum IkTask {
-    Frame(FrameVelocityTask),
-    Com(ComVelocityTask),
-    Posture(PostureVelocityTask),
-}
-
-impl IkTask {
-    /// Number of rows the task contributes.
-    pub fn dim(&self) -> usize {
-        match self {
-            IkTask::Frame(t) => t.dim(),
-            IkTask::Com(t) => t.dim(),
-            IkTask::Posture(t) => t.dim(),
-        }
-    }
-
-    fn compute(&mut self, model: &Model, s: &RobotState) -> Result<&TaskRows> {
-        match self {
-            IkTask::Frame(t) => t.compute(model, s),
-            IkTask::Com(t) => Ok(t.compute(s)),
-            IkTask::Posture(t) => t.compute(model, s),
-        }
-    }
-
-    pub fn as_frame_mut(&mut self) -> Option<&mut FrameVelocityTask> {
-        match self {
-            IkTask::Frame(t) => Some(t),
-            _ => None,
-        }
-    }
-
-    pub fn as_com_mut(&mut self) -> Option<&mut ComVelocityTask> {
-        match self {
-            IkTask::Com(t) => Some(t),
-            _ => None,
-        }
-    }
-
-    pub fn as_posture_mut(&mut self) -> Option<&mut PostureVelocityTask> {
-        match self {
-            IkTask::Posture(t) => Some(t),
-            _ => None,
-        }
-    }
-}
-
-/// A task in the stack: its name, priority (0 = highest) and weight inside its level.
-pub struct IkEntry {
-    pub name: String,
-    pub priority: usize,
-    pub weight: f64,
-    pub task: IkTask,
-}
 
 /// The controller's answer at one tick.
 #[derive(Clone, Debug, PartialEq)]
@@ -137,9 +84,7 @@ pub struct StackFrames<'a> {
 struct Slot {
     level: usize,
     row: usize,
-    priority: usize,
     dim: usize,
-    weight: f64,
 }
 
 /// Hierarchical velocity-level inverse kinematics (see the module docs).
@@ -149,9 +94,12 @@ pub struct InverseKinematics {
     pub dt: f64,
     /// Enforce the joint position and velocity limits as hard bounds.
     pub enforce_limits: bool,
-    entries: Vec<IkEntry>,
+    /// The velocity-level tasks.
+    pub tasks: TaskStack,
     hqp: Option<HierarchicalQp>,
     slots: Vec<Slot>,
+    /// The stack's structure the levels were built for.
+    built_for: Option<u64>,
     /// For each velocity index: its configuration index when the joint has position limits.
     q_index: Vec<Option<usize>>,
     q_lo: DVector<f64>,
@@ -191,9 +139,10 @@ impl InverseKinematics {
         Ok(Self {
             dt,
             enforce_limits: true,
-            entries: Vec::new(),
+            tasks: TaskStack::new(TaskLevel::Velocity),
             hqp: None,
             slots: Vec::new(),
+            built_for: None,
             q_index,
             q_lo: model.lower_position_limit.clone(),
             q_hi: model.upper_position_limit.clone(),
@@ -242,7 +191,7 @@ impl InverseKinematics {
                 [true; 6],
                 reference,
             )?;
-            ik.add_task(name, 0, 1.0, IkTask::Frame(task))?;
+            ik.add_task(name, 0, 1.0, task)?;
         }
         let com = Reference::constant(DVector::from_column_slice(state.data.com.as_slice()));
         let height = ComVelocityTask::new(
@@ -251,9 +200,9 @@ impl InverseKinematics {
             [false, false, true],
             com.clone(),
         )?;
-        ik.add_task("com_height", 1, 1.0, IkTask::Com(height))?;
+        ik.add_task("com_height", 1, 1.0, height)?;
         let xy = ComVelocityTask::new(nv, Vector3::repeat(gains.com), [true, true, false], com)?;
-        ik.add_task("com_xy", 2, 1.0, IkTask::Com(xy))?;
+        ik.add_task("com_xy", 2, 1.0, xy)?;
         let (id, reference) = frame_ref(frames.waist)?;
         let waist = FrameVelocityTask::new(
             model,
@@ -262,11 +211,11 @@ impl InverseKinematics {
             [false, false, false, true, true, true],
             reference,
         )?;
-        ik.add_task("waist", 3, 1.0, IkTask::Frame(waist))?;
+        ik.add_task("waist", 3, 1.0, waist)?;
         let na = nv - if model.has_free_flyer() { 6 } else { 0 };
         let posture =
             PostureVelocityTask::new(model, DVector::repeat(na, gains.posture), q_posture.clone())?;
-        ik.add_task("posture", 4, 1.0, IkTask::Posture(posture))?;
+        ik.add_task("posture", 4, 1.0, posture)?;
         Ok(ik)
     }
 
@@ -276,62 +225,35 @@ impl InverseKinematics {
         name: &str,
         priority: usize,
         weight: f64,
-        task: IkTask,
+        task: impl Task,
     ) -> Result<()> {
-        if self.entries.iter().any(|e| e.name == name) {
-            return Err(ControlError::Config {
-                name: format!("IK task {name}"),
-                reason: "a task of that name is already in the stack".into(),
-            });
-        }
         check_weight(name, weight)?;
-        let ncols = match &task {
-            IkTask::Frame(t) => t.nv(),
-            IkTask::Com(t) => t.nv(),
-            IkTask::Posture(t) => t.nv(),
-        };
-        if ncols != self.nv {
-            return Err(ControlError::Config {
-                name: format!("IK task {name}"),
-                reason: format!("built for nv = {ncols}, the model has {}", self.nv),
-            });
-        }
-        self.entries.push(IkEntry {
-            name: name.into(),
-            priority,
-            weight,
-            task,
-        });
-        Ok(())
+        self.tasks.add(name, task, priority, weight)
     }
 
     /// Removes a task and returns it.
-    pub fn remove_task(&mut self, name: &str) -> Result<IkEntry> {
-        let i = self.index(name)?;
-        Ok(self.entries.remove(i))
+    pub fn remove_task(&mut self, name: &str) -> Result<Box<dyn Task>> {
+        self.tasks.remove(name)
     }
 
     /// Moves a task to another priority (the hierarchy is rebuilt at the next `compute`).
     pub fn set_priority(&mut self, name: &str, priority: usize) -> Result<()> {
-        let i = self.index(name)?;
-        self.entries[i].priority = priority;
-        Ok(())
+        self.tasks.set_priority(name, priority)
     }
 
-    /// The task called `name`, to change its reference or gains.
-    pub fn task_mut(&mut self, name: &str) -> Result<&mut IkTask> {
-        let i = self.index(name)?;
-        Ok(&mut self.entries[i].task)
-    }
-
-    /// The stack's entries.
-    pub fn entries(&self) -> &[IkEntry] {
-        &self.entries
+    /// The task called `name` as its type `T`, to change its reference or gains.
+    pub fn task_mut<T: Task>(&mut self, name: &str) -> Result<&mut T> {
+        self.tasks
+            .task_mut(name)
+            .ok_or_else(|| ControlError::Config {
+                name: format!("IK task {name}"),
+                reason: format!("no task of type {} so named", std::any::type_name::<T>()),
+            })
     }
 
     /// Number of priority levels of the current structure.
     pub fn levels(&self) -> usize {
-        let mut p: Vec<usize> = self.entries.iter().map(|e| e.priority).collect();
+        let mut p: Vec<usize> = self.tasks.entries().iter().map(|e| e.priority).collect();
         p.sort_unstable();
         p.dedup();
         p.len()
@@ -342,37 +264,24 @@ impl InverseKinematics {
         &self.output
     }
 
-    fn index(&self, name: &str) -> Result<usize> {
-        self.entries
-            .iter()
-            .position(|e| e.name == name)
-            .ok_or_else(|| ControlError::Config {
-                name: format!("IK task {name}"),
-                reason: "no such task in the stack".into(),
-            })
-    }
-
     fn structure_changed(&self) -> bool {
         self.hqp.is_none()
-            || self.slots.len() != self.entries.len()
-            || self.slots.iter().zip(&self.entries).any(|(s, e)| {
-                s.priority != e.priority || s.dim != e.task.dim() || s.weight != e.weight
-            })
+            || self.built_for != Some(self.tasks.structure())
+            || self.slots.len() != self.tasks.entries().len()
+            || (self.slots.iter().zip(self.tasks.entries())).any(|(s, e)| s.dim != e.task.dim())
     }
 
     /// Builds the levels and the QP workspaces for the current stack (allocates).
     fn rebuild(&mut self) -> Result<()> {
-        for e in &self.entries {
-            check_weight(&e.name, e.weight)?;
-        }
-        let mut priorities: Vec<usize> = self.entries.iter().map(|e| e.priority).collect();
+        let entries = self.tasks.entries();
+        let mut priorities: Vec<usize> = entries.iter().map(|e| e.priority).collect();
         priorities.sort_unstable();
         priorities.dedup();
         let n = self.nv;
         let mut levels: Vec<Level> = priorities.iter().map(|_| Level::new(n)).collect();
         let mut rows = vec![0usize; priorities.len()];
         self.slots.clear();
-        for e in &self.entries {
+        for e in entries {
             // The priorities were collected from the entries: the search succeeds.
             let level = priorities.partition_point(|p| *p < e.priority);
             let dim = e.task.dim();
@@ -382,13 +291,12 @@ impl InverseKinematics {
             self.slots.push(Slot {
                 level,
                 row: rows[level],
-                priority: e.priority,
                 dim,
-                weight: e.weight,
             });
             rows[level] += dim;
         }
         self.hqp = Some(HierarchicalQp::new(n, levels));
+        self.built_for = Some(self.tasks.structure());
         Ok(())
     }
 
@@ -408,7 +316,7 @@ impl InverseKinematics {
         if state.q.iter().chain(state.v.iter()).any(|x| !x.is_finite()) {
             return Err(ControlError::NonFinite("robot state"));
         }
-        if self.entries.is_empty() {
+        if self.tasks.entries().is_empty() {
             return Err(ControlError::Config {
                 name: "IK stack".into(),
                 reason: "no task".into(),
@@ -423,11 +331,23 @@ impl InverseKinematics {
                 reason: "not built".into(),
             });
         };
-        for (e, slot) in self.entries.iter_mut().zip(&self.slots) {
+        for (e, slot) in self.tasks.entries_mut().iter_mut().zip(&self.slots) {
+            let weight = e.weight;
             let rows = e.task.compute(model, state)?;
+            if rows.a.ncols() != self.nv {
+                return Err(ControlError::Config {
+                    name: format!("IK task {}", e.name),
+                    reason: format!(
+                        "rows of {} columns, the model has nv = {}",
+                        rows.a.ncols(),
+                        self.nv
+                    ),
+                });
+            }
             let lv = &mut hqp.levels_mut()[slot.level];
             lv.a.rows_mut(slot.row, slot.dim).copy_from(&rows.a);
             lv.b.rows_mut(slot.row, slot.dim).copy_from(&rows.b);
+            lv.eq_weights.rows_mut(slot.row, slot.dim).fill(weight);
         }
         let dt = self.dt;
         for k in 0..self.nv {

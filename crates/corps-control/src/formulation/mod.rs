@@ -4,4 +4,4 @@ mod inverse_dynamics;
 mod inverse_kinematics;
 
 pub use inverse_dynamics::{IdOutput, InverseDynamics};
-pub use inverse_kinematics::{IkEntry, IkGains, IkOutput, IkTask, InverseKinematics, StackFrames};
+pub use inverse_kinematics::{IkGains, IkOutput, InverseKinematics, StackFrames};

@@ -39,3 +39,19 @@ impl AngularMomentumTask {
         &self.rows
     }
 }
+
+impl super::Task for AngularMomentumTask {
+    fn level(&self) -> super::TaskLevel {
+        super::TaskLevel::Acceleration
+    }
+    fn dim(&self) -> usize {
+        3
+    }
+    fn compute(
+        &mut self,
+        _model: &corps_model::Model,
+        s: &crate::robot_state::RobotState,
+    ) -> crate::error::Result<&super::TaskRows> {
+        Ok(AngularMomentumTask::compute(self, s))
+    }
+}

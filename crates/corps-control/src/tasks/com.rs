@@ -41,3 +41,19 @@ impl ComTask {
         &self.rows
     }
 }
+
+impl super::Task for ComTask {
+    fn level(&self) -> super::TaskLevel {
+        super::TaskLevel::Acceleration
+    }
+    fn dim(&self) -> usize {
+        3
+    }
+    fn compute(
+        &mut self,
+        _model: &corps_model::Model,
+        s: &crate::robot_state::RobotState,
+    ) -> crate::error::Result<&super::TaskRows> {
+        Ok(ComTask::compute(self, s))
+    }
+}

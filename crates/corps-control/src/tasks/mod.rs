@@ -1,7 +1,8 @@
 //! Tasks: each maps the robot state to affine rows `A q̈ = b` over the joint accelerations
 //! (TSID's task-space acceleration form), with per-axis PD gains, a mask and a reference.
 //! The [`velocity`] tasks give rows `A v = b` over the joint velocities, for inverse
-//! kinematics.
+//! kinematics. Every task implements [`Task`], so that formulations take any task of their
+//! level, named, in a [`crate::TaskStack`].
 
 mod angular_momentum;
 mod com;
@@ -18,13 +19,42 @@ pub use joint_bounds::JointBoundsTask;
 pub use posture::PostureTask;
 pub use se3::{se3_error, Se3Reference, Se3Task};
 
+use crate::error::Result;
+use crate::robot_state::RobotState;
+use corps_model::Model;
 use nalgebra::{DMatrix, DVector};
+use std::any::Any;
 
-/// The rows a task contributes: `a q̈ ≈ b` (or `=` at priority 0).
+/// Which derivative of the configuration a task's rows constrain.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TaskLevel {
+    /// Rows in the joint accelerations q̈ (inverse dynamics).
+    Acceleration,
+    /// Rows in the joint velocities v (inverse kinematics).
+    Velocity,
+}
+
+/// A task: the robot state → affine rows `A x = b` in x = q̈ or x = v (size nv), as TSID's
+/// tasks. A formulation weighs the rows (`w‖A x − b‖²`) or makes them equalities, by the
+/// task's priority in the stack. Implement it for a new task; any formulation of its level
+/// then takes it.
+pub trait Task: Any + Send {
+    /// The derivative the rows constrain.
+    fn level(&self) -> TaskLevel;
+    /// Number of rows.
+    fn dim(&self) -> usize;
+    /// The rows at state `s` (whose `RobotState::update` has run); allocation-free.
+    fn compute(&mut self, model: &Model, s: &RobotState) -> Result<&TaskRows>;
+}
+
+/// The rows a task contributes: `a x ≈ b` (or `=` at priority 0).
 #[derive(Clone, Debug)]
 pub struct TaskRows {
     pub a: DMatrix<f64>,
     pub b: DVector<f64>,
+    /// `Some(c)` when `a` is the identity on columns `c..c + rows` and zero elsewhere (a
+    /// joint-space task): formulations then add the rows without a product.
+    pub selection: Option<usize>,
 }
 
 impl TaskRows {
@@ -32,6 +62,7 @@ impl TaskRows {
         Self {
             a: DMatrix::zeros(rows, nv),
             b: DVector::zeros(rows),
+            selection: None,
         }
     }
     pub fn rows(&self) -> usize {

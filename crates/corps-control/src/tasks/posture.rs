@@ -28,6 +28,7 @@ impl PostureTask {
         for k in 0..na {
             rows.a[(k, first + k)] = 1.0;
         }
+        rows.selection = Some(first);
         Self {
             kp,
             kd,
@@ -54,5 +55,21 @@ impl PostureTask {
                 -self.kp[k] * self.error[j] - self.kd[k] * (s.v[j] - self.v_ref[k]) + self.a_ref[k];
         }
         &self.rows
+    }
+}
+
+impl super::Task for PostureTask {
+    fn level(&self) -> super::TaskLevel {
+        super::TaskLevel::Acceleration
+    }
+    fn dim(&self) -> usize {
+        self.rows.rows()
+    }
+    fn compute(
+        &mut self,
+        model: &corps_model::Model,
+        s: &crate::robot_state::RobotState,
+    ) -> crate::error::Result<&super::TaskRows> {
+        Ok(PostureTask::compute(self, model, s))
     }
 }

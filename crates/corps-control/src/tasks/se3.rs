@@ -98,3 +98,19 @@ impl Se3Task {
         Ok(&self.rows)
     }
 }
+
+impl super::Task for Se3Task {
+    fn level(&self) -> super::TaskLevel {
+        super::TaskLevel::Acceleration
+    }
+    fn dim(&self) -> usize {
+        6
+    }
+    fn compute(
+        &mut self,
+        model: &corps_model::Model,
+        s: &crate::robot_state::RobotState,
+    ) -> crate::error::Result<&super::TaskRows> {
+        Ok(Se3Task::compute(self, model, s)?)
+    }
+}

@@ -229,3 +229,51 @@ impl PostureVelocityTask {
         Ok(&self.rows)
     }
 }
+
+impl super::Task for FrameVelocityTask {
+    fn level(&self) -> super::TaskLevel {
+        super::TaskLevel::Velocity
+    }
+    fn dim(&self) -> usize {
+        FrameVelocityTask::dim(self)
+    }
+    fn compute(
+        &mut self,
+        model: &corps_model::Model,
+        s: &crate::robot_state::RobotState,
+    ) -> crate::error::Result<&super::TaskRows> {
+        FrameVelocityTask::compute(self, model, s)
+    }
+}
+
+impl super::Task for ComVelocityTask {
+    fn level(&self) -> super::TaskLevel {
+        super::TaskLevel::Velocity
+    }
+    fn dim(&self) -> usize {
+        ComVelocityTask::dim(self)
+    }
+    fn compute(
+        &mut self,
+        _model: &corps_model::Model,
+        s: &crate::robot_state::RobotState,
+    ) -> crate::error::Result<&super::TaskRows> {
+        Ok(ComVelocityTask::compute(self, s))
+    }
+}
+
+impl super::Task for PostureVelocityTask {
+    fn level(&self) -> super::TaskLevel {
+        super::TaskLevel::Velocity
+    }
+    fn dim(&self) -> usize {
+        PostureVelocityTask::dim(self)
+    }
+    fn compute(
+        &mut self,
+        model: &corps_model::Model,
+        s: &crate::robot_state::RobotState,
+    ) -> crate::error::Result<&super::TaskRows> {
+        PostureVelocityTask::compute(self, model, s)
+    }
+}

@@ -78,17 +78,16 @@ pub fn standing_controller(
     let mut id = InverseDynamics::new(model);
     let mut com = ComTask::new(nv, Vector3::repeat(50.0), Vector3::repeat(5.0));
     com.reference = Reference::constant(DVector::from_column_slice(state.data.com.as_slice()));
-    id.com = Some((com, 50.0));
-    id.posture = Some((
-        PostureTask::new(
-            model,
-            DVector::repeat(na, 80.0),
-            DVector::repeat(na, kd(80.0)),
-            q_posture.clone(),
-        ),
-        0.1,
-    ));
-    id.angular_momentum = Some((AngularMomentumTask::new(nv, Vector3::repeat(10.0)), 0.02));
+    id.tasks.add("com", com, 1, 50.0).unwrap();
+    let posture = PostureTask::new(
+        model,
+        DVector::repeat(na, 80.0),
+        DVector::repeat(na, kd(80.0)),
+        q_posture.clone(),
+    );
+    id.tasks.add("posture", posture, 1, 0.1).unwrap();
+    let am = AngularMomentumTask::new(nv, Vector3::repeat(10.0));
+    id.tasks.add("angular_momentum", am, 1, 0.02).unwrap();
     for frame in ["leg_left_sole_fix_joint", "leg_right_sole_fix_joint"] {
         let fid = model.frame_id(frame).unwrap();
         let placement = state.frame_placement(model, fid).unwrap();

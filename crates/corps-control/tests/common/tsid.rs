@@ -46,7 +46,9 @@ pub fn configure(model: &Model, tick: &Value) -> InverseDynamics {
         vel: dvec(&com["ref"]["vel"]),
         acc: dvec(&com["ref"]["acc"]),
     };
-    id.com = Some((c, com["weight"].as_f64().unwrap()));
+    id.tasks
+        .add("com", c, 1, com["weight"].as_f64().unwrap())
+        .unwrap();
     let post = &tick["posture"];
     let mut q_ref = dvec(&tick["q"]);
     q_ref
@@ -55,12 +57,16 @@ pub fn configure(model: &Model, tick: &Value) -> InverseDynamics {
     let mut p = PostureTask::new(model, dvec(&post["Kp"]), dvec(&post["Kd"]), q_ref);
     p.v_ref = dvec(&post["ref"]["v"]);
     p.a_ref = dvec(&post["ref"]["a"]);
-    id.posture = Some((p, post["weight"].as_f64().unwrap()));
+    id.tasks
+        .add("posture", p, 1, post["weight"].as_f64().unwrap())
+        .unwrap();
     let am = &tick["am"];
     let mut a = AngularMomentumTask::new(model.nv, v3(&am["Kp"]));
     a.reference = v3(&am["ref"]["value"]);
     a.reference_derivative = v3(&am["ref"]["derivative"]);
-    id.angular_momentum = Some((a, am["weight"].as_f64().unwrap()));
+    id.tasks
+        .add("angular_momentum", a, 1, am["weight"].as_f64().unwrap())
+        .unwrap();
     for c in tick["contacts"].as_array().unwrap() {
         let frame = model.frame_id(c["frame"].as_str().unwrap()).unwrap();
         let pts: Vec<Vector3<f64>> = c["contact_points"]

@@ -8,6 +8,7 @@ use crate::error::Result;
 use crate::gains::IkGainsFile;
 use crate::targets::Targets;
 use corps_control::formulation::{IkGains, InverseKinematics, StackFrames};
+use corps_control::tasks::velocity::{ComVelocityTask, FrameVelocityTask};
 use corps_control::{ControlError, FallbackReason, RobotState};
 use corps_model::Model;
 use corps_robot::Robot;
@@ -77,18 +78,15 @@ impl IkController {
 
     fn set_references(&mut self, targets: &Targets) -> Result<(), ControlError> {
         for name in ["com_height", "com_xy"] {
-            if let Some(task) = self.ik.task_mut(name)?.as_com_mut() {
-                task.reference.clone_from(&targets.com);
-            }
+            let task = self.ik.task_mut::<ComVelocityTask>(name)?;
+            task.reference.clone_from(&targets.com);
         }
-        if let Some(task) = self.ik.task_mut("waist")?.as_frame_mut() {
-            let yaw = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), targets.waist_yaw);
-            task.reference.placement.rotation = yaw.matrix() * self.waist_rotation0;
-        }
+        let yaw = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), targets.waist_yaw);
+        let waist = self.ik.task_mut::<FrameVelocityTask>("waist")?;
+        waist.reference.placement.rotation = yaw.matrix() * self.waist_rotation0;
         for (name, foot) in FEET_TASKS.iter().zip(&targets.feet) {
-            if let Some(task) = self.ik.task_mut(name)?.as_frame_mut() {
-                task.reference.clone_from(&foot.reference);
-            }
+            let task = self.ik.task_mut::<FrameVelocityTask>(name)?;
+            task.reference.clone_from(&foot.reference);
         }
         Ok(())
     }

@@ -66,6 +66,8 @@ struct Foot {
     frame: usize,
     contact: Contact,
     in_contact: bool,
+    /// Name of its swing task in the stack.
+    swing_task: String,
 }
 
 pub struct TsidController {
@@ -75,8 +77,8 @@ pub struct TsidController {
     id: InverseDynamics,
     state: RobotState,
     feet: [Foot; 2],
-    /// Index of the waist orientation task in `id.frames`, and its starting orientation.
-    waist: Option<usize>,
+    /// Whether the stack has a waist orientation task ("waist"), and its starting orientation.
+    waist: bool,
     waist_rotation0: nalgebra::Matrix3<f64>,
     gains: TsidGains,
     /// Position mode: the integrated state.
@@ -117,18 +119,14 @@ impl TsidController {
         let mut id = InverseDynamics::new(&model);
         let g = &gains;
         let com = ComTask::new(nv, Vector3::repeat(g.com.kp), Vector3::repeat(g.com.kd()));
-        id.com = Some((com, g.com.weight));
+        id.tasks.add("com", com, 1, g.com.weight)?;
         let kp = g.posture_kp(&model)?;
         let kd = kp.map(|k| 2.0 * k.sqrt());
-        id.posture = Some((
-            PostureTask::new(&model, kp, kd, q_posture.clone()),
-            g.posture.weight,
-        ));
-        id.angular_momentum = Some((
-            AngularMomentumTask::new(nv, Vector3::repeat(g.angular_momentum.kp)),
-            g.angular_momentum.weight,
-        ));
-        let (mut waist, mut waist_rotation0) = (None, nalgebra::Matrix3::identity());
+        let posture = PostureTask::new(&model, kp, kd, q_posture.clone());
+        id.tasks.add("posture", posture, 1, g.posture.weight)?;
+        let momentum = AngularMomentumTask::new(nv, Vector3::repeat(g.angular_momentum.kp));
+        (id.tasks).add("angular_momentum", momentum, 1, g.angular_momentum.weight)?;
+        let (mut waist, mut waist_rotation0) = (false, nalgebra::Matrix3::identity());
         if let Some(w) = &g.waist {
             let frame = robot.base;
             let mut task = Se3Task::new(
@@ -140,8 +138,8 @@ impl TsidController {
             );
             task.mask = Vector6::new(0.0, 0.0, 0.0, 1.0, 1.0, 1.0);
             waist_rotation0 = task.reference.placement.rotation;
-            waist = Some(id.frames.len());
-            id.frames.push((task, w.weight));
+            waist = true;
+            id.tasks.add("waist", task, 1, w.weight)?;
         }
         let c = &g.contacts;
         let contact_kd = c.kd.unwrap_or(2.0 * c.kp.sqrt());
@@ -165,6 +163,7 @@ impl TsidController {
             id.contacts.push(contact.clone());
             feet.push(Foot {
                 frame,
+                swing_task: format!("swing {}", foot.frame_name),
                 contact,
                 in_contact: true,
             });
@@ -217,7 +216,9 @@ impl TsidController {
             let name = foot.contact.name.clone();
             if target.in_contact {
                 // Touch-down: drop the swing task, add the contact where the foot is aimed.
-                self.id.frames.retain(|(task, _)| task.frame != foot.frame);
+                if self.id.tasks.contains(&foot.swing_task) {
+                    (self.id.tasks.remove(&foot.swing_task)).map_err(FallbackReason::Controller)?;
+                }
                 let mut contact = foot.contact.clone();
                 contact.motion.reference = at_rest(target.reference.placement);
                 self.id.add_contact(contact, t, transition);
@@ -233,7 +234,9 @@ impl TsidController {
                     Vector6::repeat(g.kd()),
                     target.reference.clone(),
                 );
-                self.id.frames.push((task, g.weight));
+                (self.id.tasks)
+                    .add(&foot.swing_task, task, 1, g.weight)
+                    .map_err(FallbackReason::Controller)?;
             }
             foot.in_contact = target.in_contact;
         }
@@ -242,11 +245,14 @@ impl TsidController {
 
     /// Copies the targets into the tasks.
     fn set_references(&mut self, targets: &Targets) {
-        if let Some((waist, _)) = self.waist.and_then(|i| self.id.frames.get_mut(i)) {
-            let yaw = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), targets.waist_yaw);
-            waist.reference.placement.rotation = yaw.matrix() * self.waist_rotation0;
+        if self.waist {
+            if let Some(waist) = self.id.tasks.task_mut::<Se3Task>("waist") {
+                let yaw =
+                    nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), targets.waist_yaw);
+                waist.reference.placement.rotation = yaw.matrix() * self.waist_rotation0;
+            }
         }
-        if let Some((com, _)) = &mut self.id.com {
+        if let Some(com) = self.id.tasks.task_mut::<ComTask>("com") {
             com.reference.pos.copy_from(&targets.com.pos);
             com.reference.vel.copy_from(&targets.com.vel);
             com.reference.acc.copy_from(&targets.com.acc);
@@ -255,12 +261,7 @@ impl TsidController {
             if foot.in_contact {
                 continue;
             }
-            if let Some((task, _)) = self
-                .id
-                .frames
-                .iter_mut()
-                .find(|(t, _)| t.frame == foot.frame)
-            {
+            if let Some(task) = self.id.tasks.task_mut::<Se3Task>(&foot.swing_task) {
                 task.reference.clone_from(&targets.feet[k].reference);
             }
         }
