@@ -11,14 +11,17 @@
 //!
 //! Torques follow from the actuated rows: `τ = M_a q̈ + h_a − Jc_aᵀ f`.
 
+use super::qp_terms::{
+    add_task_cost, add_wrench_cost, copy_block, copy_block_neg_transposed, RowScratch,
+};
 use crate::contacts::Contact;
 use crate::error::{ControlError, Result};
 use crate::robot_state::RobotState;
 use crate::stack::TaskStack;
-use crate::tasks::{ContactForceTask, JointBoundsTask, TaskLevel, TaskRows};
+use crate::tasks::{ContactForceTask, JointBoundsTask, TaskLevel};
 use corps_model::Model;
 use corps_qp::{ActiveSetSolver, QpProblem};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 
 /// TSID's `DEFAULT_HESSIAN_REGULARIZATION`.
 pub const HESSIAN_REGULARIZATION: f64 = 1e-8;
@@ -69,13 +72,6 @@ pub struct InverseDynamics {
     scratch: RowScratch,
 }
 
-/// One task row gathered for [`add_least_squares`]: its values and its non-zero columns.
-#[derive(Clone, Debug)]
-struct RowScratch {
-    values: Vec<f64>,
-    nonzeros: Vec<usize>,
-}
-
 impl InverseDynamics {
     /// An empty formulation for `model` (add tasks and contacts, then call `compute`).
     pub fn new(model: &Model) -> Self {
@@ -96,10 +92,7 @@ impl InverseDynamics {
                 tau: DVector::zeros(na),
             },
             transitions: Vec::new(),
-            scratch: RowScratch {
-                values: vec![0.0; model.nv],
-                nonzeros: Vec::with_capacity(model.nv),
-            },
+            scratch: RowScratch::new(model.nv),
         }
     }
 
@@ -429,142 +422,5 @@ impl InverseDynamics {
             self.output.tau[k] = t;
         }
         Ok(&self.output)
-    }
-}
-
-/// `H += w AᵀA` and `g −= w Aᵀ b` for a task's rows: on the diagonal for a selection (a
-/// joint-space task), else by [`add_least_squares`].
-fn add_task_cost(
-    h: &mut DMatrix<f64>,
-    g: &mut DVector<f64>,
-    rows: &TaskRows,
-    w: f64,
-    scratch: &mut RowScratch,
-) {
-    match rows.selection {
-        Some(first) => {
-            for k in 0..rows.rows() {
-                h[(first + k, first + k)] += w;
-                g[first + k] -= w * rows.b[k];
-            }
-        }
-        None => add_least_squares(h, g, rows, w, scratch),
-    }
-}
-
-/// `H += w AᵀA` and `g −= w Aᵀ b` over the first `A.ncols()` variables, as one rank-1 update
-/// `w a_r a_rᵀ` per task row. A frame task's rows are zero outside the frame's chain (a
-/// foot's: 12 of TALOS' 38 columns), so a sparse row updates only its non-zero block; a
-/// dense one (CoM, momentum) runs contiguous inner loops over H's columns.
-fn add_least_squares(
-    h: &mut DMatrix<f64>,
-    g: &mut DVector<f64>,
-    rows: &TaskRows,
-    w: f64,
-    scratch: &mut RowScratch,
-) {
-    let (m, n) = (rows.a.nrows(), rows.a.ncols());
-    let nh = h.nrows();
-    let a = rows.a.as_slice();
-    let hs = h.as_mut_slice();
-    let row = &mut scratch.values[..n];
-    let nonzeros = &mut scratch.nonzeros;
-    for r in 0..m {
-        nonzeros.clear();
-        for (i, x) in row.iter_mut().enumerate() {
-            *x = a[i * m + r];
-            if *x != 0.0 {
-                nonzeros.push(i);
-            }
-        }
-        let br = w * rows.b[r];
-        let sparse = 2 * nonzeros.len() < n;
-        for &j in nonzeros.iter() {
-            let aj = row[j];
-            g[j] -= br * aj;
-            let s = w * aj;
-            let column = &mut hs[j * nh..j * nh + n];
-            if sparse {
-                for &i in nonzeros.iter() {
-                    column[i] += s * row[i];
-                }
-            } else {
-                for (hij, ai) in column.iter_mut().zip(row.iter()) {
-                    *hij += s * ai;
-                }
-            }
-        }
-    }
-}
-
-/// Adds `w ‖diag(cw) (T f − f_ref)‖²` over the force variables starting at `col` (`T`: the
-/// contact's 6 × n_f wrench generator): a contact's force regularization or force task.
-fn add_wrench_cost(
-    h: &mut DMatrix<f64>,
-    g: &mut DVector<f64>,
-    col: usize,
-    t: &DMatrix<f64>,
-    cw: &nalgebra::Vector6<f64>,
-    f_ref: &nalgebra::Vector6<f64>,
-    w: f64,
-) {
-    let nf = t.ncols();
-    debug_assert_eq!(t.nrows(), 6, "a wrench generator has six rows");
-    let nh = h.nrows();
-    let (hs, ts) = (h.as_mut_slice(), t.as_slice());
-    // Column i of T is ts[6 i..6 i + 6]; u = diag(cw²) T column i, in the same order of
-    // operations as Σ_r cw_r cw_r T_ri T_rj.
-    let cw2 = cw.map(|c| c * c);
-    for i in 0..nf {
-        let ti = &ts[6 * i..6 * i + 6];
-        let u: [f64; 6] = std::array::from_fn(|r| cw2[r] * ti[r]);
-        for j in 0..nf {
-            let tj = &ts[6 * j..6 * j + 6];
-            let mut acc = 0.0;
-            for r in 0..6 {
-                acc += u[r] * tj[r];
-            }
-            hs[(col + j) * nh + col + i] += w * acc;
-        }
-        let mut acc = 0.0;
-        for r in 0..6 {
-            acc += u[r] * f_ref[r];
-        }
-        g[col + i] -= w * acc;
-    }
-}
-
-/// `dst[dr.., dc..] = src[sr.., sc..]` over a `rows × cols` block, column by column.
-fn copy_block(
-    dst: &mut DMatrix<f64>,
-    (dr, dc): (usize, usize),
-    src: &DMatrix<f64>,
-    (sr, sc): (usize, usize),
-    (rows, cols): (usize, usize),
-) {
-    let (nd, ns) = (dst.nrows(), src.nrows());
-    let (d, s) = (dst.as_mut_slice(), src.as_slice());
-    for c in 0..cols {
-        let from = (sc + c) * ns + sr;
-        let to = (dc + c) * nd + dr;
-        d[to..to + rows].copy_from_slice(&s[from..from + rows]);
-    }
-}
-
-/// `dst[dr + r, dc + c] = −src[sr + c, sc + r]`: a negated transposed block (`−Jcᵀ`).
-fn copy_block_neg_transposed(
-    dst: &mut DMatrix<f64>,
-    (dr, dc): (usize, usize),
-    src: &DMatrix<f64>,
-    (sr, sc): (usize, usize),
-    (rows, cols): (usize, usize),
-) {
-    let (nd, ns) = (dst.nrows(), src.nrows());
-    let (d, s) = (dst.as_mut_slice(), src.as_slice());
-    for c in 0..cols {
-        let to = (dc + c) * nd + dr;
-        for (r, x) in d[to..to + rows].iter_mut().enumerate() {
-            *x = -s[(sc + r) * ns + sr + c];
-        }
     }
 }

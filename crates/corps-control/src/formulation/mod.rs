@@ -1,7 +1,11 @@
-//! Formulations: stack tasks and contacts into one QP per tick.
+//! Formulations: stack tasks and contacts into one QP per tick: inverse dynamics on [q̈; f]
+//! (TSID's), on [τ; f] (seed 001's), and hierarchical velocity IK (seed 000's controller A).
 
 mod inverse_dynamics;
 mod inverse_kinematics;
+mod qp_terms;
+mod torque_force;
 
-pub use inverse_dynamics::{IdOutput, InverseDynamics};
+pub use inverse_dynamics::{IdOutput, InverseDynamics, HESSIAN_REGULARIZATION};
 pub use inverse_kinematics::{IkGains, IkOutput, InverseKinematics, StackFrames};
+pub use torque_force::{TorqueForce, TorqueForceOutput};

@@ -1,0 +1,336 @@
+//! Inverse dynamics on the torques and contact forces, u = [τ; f] (seed 001 §2.6, the
+//! decision variable of its stack of tasks, Eq 2.40–2.45): the joint accelerations are a
+//! function of u through the dynamics, ν̇(u) = M⁻¹(Sᵀτ + J_cᵀf − h) = G u + d, so that a task
+//! `A ν̇ = b` becomes the rows `(A G) u = b − A d`:
+//! - equalities: each contact's motion rows and the stack's priority-0 tasks;
+//! - inequalities: each contact's friction pyramid and normal-force bounds; torque bounds as
+//!   bounds on τ;
+//! - cost: Σ w‖A G u − (b − A d)‖² over the priority-1 tasks, the contacts' force
+//!   regularizations and force tasks, and w_τ‖τ‖² (seed 001's torque regularization, Table
+//!   B.3 / soft-tasks #1: w_τ = 1e-4), plus 1e-8‖f‖².
+//!
+//! With the same tasks it has the optimum of [`super::InverseDynamics`] up to their
+//! regularizations (`tests/torque_force.rs` compares them); it is the form seed 001's
+//! controllers take, and the one where a torque cost or a torque-rate bound is a plain row.
+
+use super::qp_terms::{add_task_cost, add_wrench_cost, copy_block, RowScratch};
+use super::HESSIAN_REGULARIZATION;
+use crate::contacts::Contact;
+use crate::error::{ControlError, Result};
+use crate::robot_state::RobotState;
+use crate::stack::TaskStack;
+use crate::tasks::{ContactForceTask, TaskLevel, TaskRows};
+use crate::FallbackReason;
+use corps_model::{factorize_branch_sparse, solve_mass_matrix, Model};
+use corps_qp::{ActiveSetSolver, QpProblem};
+use nalgebra::{DMatrix, DVector};
+
+/// The answer of one tick.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TorqueForceOutput {
+    /// Actuated joint torques (na).
+    pub tau: DVector<f64>,
+    /// Contact forces, 3 per contact point, in contact order.
+    pub forces: DVector<f64>,
+    /// The joint accelerations they give, ν̇ = G u + d (nv).
+    pub dv: DVector<f64>,
+}
+
+/// The [τ; f] formulation (see the module docs).
+pub struct TorqueForce {
+    /// The motion tasks (acceleration level): priority 0 equalities, 1 costs.
+    pub tasks: TaskStack,
+    pub contacts: Vec<Contact>,
+    /// Contact-force tasks in the cost, with weights (each names its contact).
+    pub contact_forces: Vec<(ContactForceTask, f64)>,
+    /// w_τ of the torque regularization w_τ‖τ‖².
+    pub torque_weight: f64,
+    /// τ_min ≤ τ ≤ τ_max (na each), when set.
+    pub actuation: Option<(DVector<f64>, DVector<f64>)>,
+    first: usize,
+    /// The LᵀDL factor of M.
+    ltdl: DMatrix<f64>,
+    /// G = M⁻¹[Sᵀ J_cᵀ] (nv × n) and d = −M⁻¹h.
+    map: DMatrix<f64>,
+    drift: DVector<f64>,
+    column: DVector<f64>,
+    /// A task's rows mapped to u, one buffer per row count met so far.
+    mapped: Vec<TaskRows>,
+    pub problem: QpProblem,
+    solver: ActiveSetSolver,
+    pub output: TorqueForceOutput,
+    scratch: RowScratch,
+}
+
+impl TorqueForce {
+    /// An empty formulation for `model` (add tasks and contacts, then call `compute`).
+    pub fn new(model: &Model) -> Self {
+        let first = model.first_actuated();
+        let na = model.nv - first;
+        Self {
+            tasks: TaskStack::new(TaskLevel::Acceleration),
+            contacts: Vec::new(),
+            contact_forces: Vec::new(),
+            torque_weight: 1e-4,
+            actuation: None,
+            first,
+            ltdl: DMatrix::zeros(model.nv, model.nv),
+            map: DMatrix::zeros(model.nv, na),
+            drift: DVector::zeros(model.nv),
+            column: DVector::zeros(model.nv),
+            mapped: Vec::new(),
+            problem: QpProblem::new(na, 0, 0),
+            solver: ActiveSetSolver::new(na, 0, 0),
+            output: TorqueForceOutput {
+                tau: DVector::zeros(na),
+                forces: DVector::zeros(0),
+                dv: DVector::zeros(model.nv),
+            },
+            scratch: RowScratch::new(na),
+        }
+    }
+
+    /// Problem sizes (variables, equalities, inequalities).
+    pub fn dims(&self, model: &Model) -> (usize, usize, usize) {
+        let na = model.nv - self.first;
+        let c = &self.contacts;
+        let n_force: usize = c.iter().map(Contact::n_force).sum();
+        let n_motion: usize = c.iter().map(Contact::n_motion).sum();
+        let n_rows: usize = c.iter().map(Contact::n_rows).sum();
+        let n_task_eq: usize = (self.tasks.entries().iter())
+            .filter(|e| e.priority == 0)
+            .map(|e| e.task.dim())
+            .sum();
+        (na + n_force, n_motion + n_task_eq, n_rows)
+    }
+
+    /// Builds the QP at state `s` into `self.problem`.
+    pub fn build(&mut self, model: &Model, s: &RobotState) -> Result<()> {
+        if let Some(e) = self.tasks.entries().iter().find(|e| e.priority > 1) {
+            return Err(ControlError::Config {
+                name: format!("task '{}'", e.name),
+                reason: format!(
+                    "priority {}: the [τ; f] formulation has two levels, 0 (equalities) and 1 \
+                     (costs)",
+                    e.priority
+                ),
+            });
+        }
+        if !(self.torque_weight >= 0.0 && self.torque_weight.is_finite()) {
+            return Err(ControlError::Config {
+                name: "torque_weight".into(),
+                reason: format!("must be finite and ≥ 0, got {}", self.torque_weight),
+            });
+        }
+        let (n, n_eq, n_in) = self.dims(model);
+        let (nv, first) = (model.nv, self.first);
+        let na = nv - first;
+        if self.problem.dims() != (n, n_eq, n_in) {
+            self.problem = QpProblem::new(n, n_eq, n_in);
+            self.solver.resize(n, n_eq, n_in);
+            self.output.forces = DVector::zeros(n - na);
+            self.map = DMatrix::zeros(nv, n);
+            self.scratch = RowScratch::new(n);
+            self.mapped.clear();
+        }
+        for contact in &mut self.contacts {
+            contact.compute(model, s)?;
+        }
+        // G = M⁻¹[Sᵀ J_cᵀ], d = −M⁻¹h through the LᵀDL factor of M.
+        self.ltdl.copy_from(&s.data.m);
+        factorize_branch_sparse(model, &mut self.ltdl)?;
+        for c in 0..n {
+            self.column.fill(0.0);
+            if c < na {
+                self.column[first + c] = 1.0;
+            } else {
+                let mut j = c - na;
+                for contact in &self.contacts {
+                    if j < contact.n_force() {
+                        for i in 0..nv {
+                            self.column[i] = contact.jc[(j, i)];
+                        }
+                        break;
+                    }
+                    j -= contact.n_force();
+                }
+            }
+            solve_mass_matrix(model, &self.ltdl, self.column.as_mut_slice());
+            self.map.set_column(c, &self.column);
+        }
+        self.drift.copy_from(&s.data.nle);
+        solve_mass_matrix(model, &self.ltdl, self.drift.as_mut_slice());
+        self.drift.neg_mut();
+
+        for buf in [
+            self.problem.h.as_mut_slice(),
+            self.problem.g.as_mut_slice(),
+            self.problem.a.as_mut_slice(),
+            self.problem.b.as_mut_slice(),
+            self.problem.c.as_mut_slice(),
+        ] {
+            buf.fill(0.0);
+        }
+        // Contacts: motion rows (equalities), friction rows, force costs.
+        let (mut col, mut r_eq, mut r_in) = (na, 0, 0);
+        for contact in &self.contacts {
+            let m = contact.n_motion();
+            let i = map_rows(
+                &self.map,
+                &self.drift,
+                &mut self.mapped,
+                contact.motion_rows(),
+            );
+            let p = &mut self.problem;
+            copy_block(&mut p.a, (r_eq, 0), &self.mapped[i].a, (0, 0), (m, n));
+            p.b.rows_mut(r_eq, m)
+                .copy_from(&self.mapped[i].b.rows(0, m));
+            contact.force_constraints(&mut p.c, &mut p.l, &mut p.u, r_in, col);
+            add_wrench_cost(
+                &mut p.h,
+                &mut p.g,
+                col,
+                &contact.t,
+                &contact.force_reg_components,
+                &contact.force_reference,
+                contact.force_reg_weight,
+            );
+            for (task, w) in &self.contact_forces {
+                if task.contact == contact.name {
+                    let ones = nalgebra::Vector6::repeat(1.0);
+                    add_wrench_cost(
+                        &mut p.h,
+                        &mut p.g,
+                        col,
+                        &contact.t,
+                        &ones,
+                        &task.desired,
+                        *w,
+                    );
+                }
+            }
+            col += contact.n_force();
+            r_eq += m;
+            r_in += contact.n_rows();
+        }
+        // The stack: equalities, then costs, in its order.
+        for entry in self.tasks.entries_mut() {
+            let (priority, weight) = (entry.priority, entry.weight);
+            let rows = entry.task.compute(model, s)?;
+            let i = map_rows(&self.map, &self.drift, &mut self.mapped, rows);
+            let (mapped, p) = (&self.mapped[i], &mut self.problem);
+            if priority == 0 {
+                let m = mapped.rows();
+                copy_block(&mut p.a, (r_eq, 0), &mapped.a, (0, 0), (m, n));
+                p.b.rows_mut(r_eq, m).copy_from(&mapped.b);
+                r_eq += m;
+            } else {
+                add_task_cost(&mut p.h, &mut p.g, mapped, weight, &mut self.scratch);
+            }
+        }
+        let p = &mut self.problem;
+        for k in 0..na {
+            p.h[(k, k)] += self.torque_weight;
+        }
+        for k in na..n {
+            p.h[(k, k)] += HESSIAN_REGULARIZATION;
+        }
+        p.lx.fill(f64::NEG_INFINITY);
+        p.ux.fill(f64::INFINITY);
+        if let Some((lower, upper)) = &self.actuation {
+            p.lx.rows_mut(0, na).copy_from(lower);
+            p.ux.rows_mut(0, na).copy_from(upper);
+        }
+        Ok(())
+    }
+
+    /// Builds and solves; on success fills `self.output`.
+    pub fn compute(&mut self, model: &Model, s: &RobotState) -> Result<&TorqueForceOutput> {
+        self.build(model, s)?;
+        let sol = self.solver.solve(&self.problem).map_err(ControlError::Qp)?;
+        let na = model.nv - self.first;
+        self.output.tau.copy_from(&sol.x.rows(0, na));
+        let nf = self.output.forces.len();
+        self.output.forces.copy_from(&sol.x.rows(na, nf));
+        self.output.dv.copy_from(&self.drift);
+        self.output.dv.gemv(1.0, &self.map, &sol.x, 1.0);
+        Ok(&self.output)
+    }
+
+    /// One control tick: the model terms at (q, v), the QP, the torques into `tau` (na); the
+    /// safe command ([`crate::safe_torques`]) and the reason when the state is not finite or
+    /// the QP fails.
+    #[allow(clippy::too_many_arguments)]
+    pub fn tick(
+        &mut self,
+        model: &Model,
+        state: &mut RobotState,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        safe_damping: f64,
+        tau: &mut DVector<f64>,
+    ) -> Option<FallbackReason> {
+        let reason = match (
+            model.check_configuration(q),
+            model.check_tangent("velocity v", v),
+        ) {
+            (Err(e), _) | (_, Err(e)) => Some(FallbackReason::BadState(e.to_string())),
+            _ => {
+                self.tasks.update(t);
+                let solved = state
+                    .update(model, q, v)
+                    .map_err(ControlError::from)
+                    .and_then(|_| self.compute(model, state).map(|_| ()));
+                solved.err().map(FallbackReason::Controller)
+            }
+        };
+        match reason {
+            None => tau.copy_from(&self.output.tau),
+            Some(_) => crate::safe_torques(model, &mut state.data, q, v, safe_damping, tau),
+        }
+        reason
+    }
+}
+
+/// `rows` (in ν̇) mapped to u = [τ; f] through ν̇ = G u + d: `(A G) u = b − A d`, written to
+/// a buffer of `mapped` with as many rows (added the first time that size is met); returns
+/// its index.
+fn map_rows(
+    map: &DMatrix<f64>,
+    drift: &DVector<f64>,
+    mapped: &mut Vec<TaskRows>,
+    rows: &TaskRows,
+) -> usize {
+    let (m, n, nv) = (rows.rows(), map.ncols(), map.nrows());
+    let k = match mapped
+        .iter()
+        .position(|r| r.rows() == m && r.a.ncols() == n)
+    {
+        Some(k) => k,
+        None => {
+            mapped.push(TaskRows::new(m, n));
+            mapped.len() - 1
+        }
+    };
+    let out = &mut mapped[k];
+    let (a, g) = (rows.a.as_slice(), map.as_slice());
+    for c in 0..n {
+        let gc = &g[c * nv..(c + 1) * nv];
+        for r in 0..m {
+            let mut acc = 0.0;
+            for (i, gi) in gc.iter().enumerate() {
+                acc += a[i * m + r] * gi;
+            }
+            out.a[(r, c)] = acc;
+        }
+    }
+    for r in 0..m {
+        let mut acc = rows.b[r];
+        for (i, di) in drift.iter().enumerate() {
+            acc -= a[i * m + r] * di;
+        }
+        out.b[r] = acc;
+    }
+    k
+}
