@@ -55,6 +55,25 @@ fn rollouts(c: &mut Criterion) {
         });
     }
     group.finish();
+    // The same rollouts on plain scoped threads, for comparison with the pool.
+    let mut group = c.benchmark_group("rollouts_walk_3s_controlled_threads");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(2))
+        .measurement_time(Duration::from_secs(20));
+    for n in [1, 2].into_iter().filter(|n| *n <= cores) {
+        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, &n| {
+            b.iter(|| {
+                std::thread::scope(|s| {
+                    let runs: Vec<_> = (0..n).map(|_| s.spawn(|| rollout(&scenario))).collect();
+                    for r in runs {
+                        assert_eq!(r.join().expect("a rollout thread"), 0);
+                    }
+                })
+            })
+        });
+    }
+    group.finish();
 }
 
 criterion_group!(benches, rollouts);

@@ -13,7 +13,9 @@
 //! - contact: spring–damper normal force and an anchored tangential spring on the Coulomb cone
 //!   (stiction without creep), on points sampled over the robot's box/cylinder/sphere shapes;
 //! - actuation: torques, positions through a joint PD servo, or velocities, clamped at the
-//!   URDF effort limits.
+//!   URDF effort limits;
+//! - the loop's plant: [`SimulatedRobot`] (the simulator and its sensors as a
+//!   [`corps_loop::Plant`], optionally preparing each next step on a second thread).
 //!
 //! ```
 //! use corps_sim::*;

@@ -1,6 +1,6 @@
-//! The library behind the `corps` command: the default robots, simulation scenarios
-//! (`corps sim`) and closed-loop controller runs (`corps run`). Tests drive the same code the
-//! command runs.
+//! The `corps` command's own code: argument handling, the files a run writes (CSV log,
+//! metrics, plots), progress and printing around the libraries (`corps-scenario` runs the
+//! scenarios, `corps-loop` closes the loop). Tests drive the same code the command runs.
 
 pub mod interrupt;
 pub mod output;
