@@ -1,7 +1,7 @@
 //! corps scenarios as a library. A scenario file (TOML) names a robot description, a
 //! terrain, the simulator's settings, sensor noise and pushes, and for a closed-loop run a
 //! controller, its gains and a motion. This crate reads it ([`scenario`]), builds the world
-//! ([`setup`]), the controllers of seed 000 chapter 4 ([`controller`], [`gains`]), the
+//! ([`setup`]), simulates it open-loop ([`simulation`], `corps sim`), the controllers of seed 000 chapter 4 ([`controller`], [`gains`]), the
 //! estimator ([`estimation`]) and the references ([`motion`], [`walk`], [`dynamic_filter`]),
 //! closes the loop through [`corps_loop`] and returns the [`metrics`], the verdict and the
 //! time series in memory ([`run`]). Writing files and printing belong to the caller.
@@ -34,6 +34,7 @@ pub mod scenario;
 pub mod sensor_profile;
 pub mod series;
 pub mod setup;
+pub mod simulation;
 pub mod targets;
 pub mod walk;
 

@@ -27,17 +27,7 @@ struct FootTrace {
 }
 
 /// The values of one tick that the plots show.
-pub struct Sample<'a> {
-    pub t: f64,
-    pub base_z: f64,
-    pub com: [f64; 3],
-    /// Vertical contact force on each foot (N, world z).
-    pub feet_fz: &'a [f64],
-    /// Force/torque reading of each foot's sensor [fx, fy, fz, tx, ty, tz] in its frame.
-    pub feet_ft: &'a [[f64; 6]],
-    pub total_fz: f64,
-    pub tau: &'a [f64],
-}
+pub use corps_scenario::simulation::Signals as Sample;
 
 /// Time series kept for the plots.
 pub struct Traces {

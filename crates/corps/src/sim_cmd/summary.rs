@@ -2,38 +2,9 @@
 //! position, lowest base height, largest foot slip, and the verdict.
 
 use corps_loop::verdict::VerdictReport;
-use nalgebra::Vector3;
 use std::fmt;
 use std::path::PathBuf;
 use std::time::Duration;
-
-/// Tracks the summary's quantities tick by tick.
-pub struct Tracker {
-    /// Lowest base height so far (m).
-    pub min_base_z: f64,
-    feet_start: Vec<Vector3<f64>>,
-    /// Largest horizontal displacement of each foot from its start (m).
-    pub max_slip: Vec<f64>,
-}
-
-impl Tracker {
-    /// Starts with the feet (sole frame origins) at `feet_start`.
-    pub fn new(feet_start: Vec<Vector3<f64>>) -> Self {
-        Self {
-            min_base_z: f64::INFINITY,
-            max_slip: vec![0.0; feet_start.len()],
-            feet_start,
-        }
-    }
-
-    /// Records one tick: time, base height and foot positions.
-    pub fn update(&mut self, base_z: f64, feet: &[Vector3<f64>]) {
-        self.min_base_z = self.min_base_z.min(base_z);
-        for ((max, start), now) in self.max_slip.iter_mut().zip(&self.feet_start).zip(feet) {
-            *max = max.max((now - start).xy().norm());
-        }
-    }
-}
 
 /// What the run did.
 pub struct Summary {

@@ -3,8 +3,8 @@
 //! the measured sensor readings (noise and bias added) under a `meas_` prefix. The rows are
 //! streamed by [`crate::output::CsvLog`].
 
+use crate::foot::Foot;
 use corps_model::{JointKind, Model};
-use corps_scenario::foot::Foot;
 use corps_sim::{first_actuated, Readings};
 use nalgebra::Vector3;
 
