@@ -1,7 +1,9 @@
 //! The task stack every formulation solves: named tasks with a priority level and a weight,
 //! added, re-weighted and removed at run time. A weight change is a minimum-jerk ramp over
-//! the time the caller gives (zero: at once), so that a task enters and leaves the QP
+//! the time the caller gives (zero: at once), so that a weighted task enters and leaves the QP
 //! without a jump in the command; a removal ramps the weight to zero, then drops the task.
+//! Where a formulation makes a level an equality (the inverse dynamics' priority 0), the
+//! weight does not enter it: such a task holds fully until it leaves the stack.
 
 use crate::error::{ControlError, Result};
 use crate::tasks::{Task, TaskLevel};
@@ -34,10 +36,31 @@ pub struct TaskEntry {
 /// Named tasks of one level of derivation (acceleration or velocity).
 pub struct TaskStack {
     level: TaskLevel,
+    /// The lowest priority the formulation solves (None: any).
+    max_priority: Option<usize>,
     entries: Vec<TaskEntry>,
     /// Changes whenever a task is added or removed or changes priority (formulations that
     /// size their problem per structure rebuild then).
     structure: u64,
+}
+
+/// A weight that is finite and ≥ 0, a finite start time and a finite, non-negative duration.
+fn check_ramp(name: &str, weight: Option<f64>, t: f64, duration: f64) -> Result<()> {
+    let bad = |reason: String| {
+        Err(ControlError::Config {
+            name: format!("task '{name}'"),
+            reason,
+        })
+    };
+    if let Some(w) = weight.filter(|w| !(*w >= 0.0 && w.is_finite())) {
+        return bad(format!("weight must be finite and ≥ 0, got {w}"));
+    }
+    if !(t.is_finite() && duration >= 0.0 && duration.is_finite()) {
+        return bad(format!(
+            "a ramp needs a finite time and a finite duration ≥ 0, got t = {t}, duration = {duration}"
+        ));
+    }
+    Ok(())
 }
 
 fn no_task(name: &str) -> ControlError {
@@ -52,8 +75,30 @@ impl TaskStack {
     pub fn new(level: TaskLevel) -> Self {
         Self {
             level,
+            max_priority: None,
             entries: Vec::new(),
             structure: 0,
+        }
+    }
+
+    /// An empty stack whose priorities go from 0 to `max` (a formulation of `max + 1`
+    /// levels): a task beyond is refused when it is added or moved.
+    pub fn with_max_priority(level: TaskLevel, max: usize) -> Self {
+        Self {
+            max_priority: Some(max),
+            ..Self::new(level)
+        }
+    }
+
+    fn check_priority(&self, name: &str, priority: usize) -> Result<()> {
+        match self.max_priority {
+            Some(max) if priority > max => Err(ControlError::Config {
+                name: format!("task '{name}'"),
+                reason: format!(
+                    "priority {priority}: this formulation solves priorities 0 to {max}"
+                ),
+            }),
+            _ => Ok(()),
         }
     }
 
@@ -87,6 +132,7 @@ impl TaskStack {
         if !(weight >= 0.0 && weight.is_finite()) {
             return Err(bad(format!("weight must be finite and ≥ 0, got {weight}")));
         }
+        self.check_priority(name, priority)?;
         self.entries.push(TaskEntry {
             name: name.into(),
             priority,
@@ -108,18 +154,14 @@ impl TaskStack {
         t: f64,
         duration: f64,
     ) -> Result<()> {
+        check_ramp(name, Some(weight), t, duration)?;
         self.add(name, task, priority, 0.0)?;
         self.set_weight(name, weight, t, duration)
     }
 
     /// Moves the weight of `name` to `weight` over `duration` s from `t` (0: at once).
     pub fn set_weight(&mut self, name: &str, weight: f64, t: f64, duration: f64) -> Result<()> {
-        if !(weight >= 0.0 && weight.is_finite()) {
-            return Err(ControlError::Config {
-                name: format!("task '{name}'"),
-                reason: format!("weight must be finite and ≥ 0, got {weight}"),
-            });
-        }
+        check_ramp(name, Some(weight), t, duration)?;
         let k = self.index(name).ok_or_else(|| no_task(name))?;
         let e = &mut self.entries[k];
         if duration > 0.0 {
@@ -146,6 +188,7 @@ impl TaskStack {
 
     /// Ramps the weight of `name` to 0 over `duration` s from `t`, then removes it.
     pub fn remove_smoothly(&mut self, name: &str, t: f64, duration: f64) -> Result<()> {
+        check_ramp(name, None, t, duration)?;
         if duration <= 0.0 {
             return self.remove(name).map(|_| ());
         }
@@ -164,6 +207,7 @@ impl TaskStack {
     /// Moves `name` to `priority`.
     pub fn set_priority(&mut self, name: &str, priority: usize) -> Result<()> {
         let k = self.index(name).ok_or_else(|| no_task(name))?;
+        self.check_priority(name, priority)?;
         if self.entries[k].priority != priority {
             self.entries[k].priority = priority;
             self.structure += 1;
@@ -173,6 +217,9 @@ impl TaskStack {
 
     /// Advances the weight ramps to time `t` and drops the tasks whose removal ended.
     pub fn update(&mut self, t: f64) {
+        if !t.is_finite() {
+            return;
+        }
         let before = self.entries.len();
         self.entries.retain_mut(|e| {
             let Some(r) = e.ramp else { return true };

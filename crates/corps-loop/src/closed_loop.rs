@@ -62,6 +62,8 @@ pub enum LoopError {
     Plant(PlantError),
     #[error("the estimator is fed the exact readings, but the plant does not know its true state")]
     NoTruth,
+    #[error("the control period must be positive and finite, got {0} s")]
+    Period(f64),
 }
 
 /// The parts of one closed-loop run. It is `Send` when its parts are, so that independent
@@ -82,14 +84,19 @@ where
     C: Controller,
     R: ReferenceSource<C::References>,
 {
-    /// Runs `settings.ticks` control periods, or until an observer stops it, the plant
-    /// diverges or `interrupt` is raised. The tick allocates nothing beyond what the parts do.
+    /// Runs `settings.ticks` control periods from t = 0 (the references' time), or until an
+    /// observer stops it, the plant diverges or `interrupt` is raised. A loop runs once: a
+    /// second call would sample the references from 0 again while the plant goes on. The tick
+    /// allocates nothing beyond what the parts do.
     pub fn run(
         &mut self,
         settings: &LoopSettings,
         observers: &mut [&mut dyn Observer<C>],
         interrupt: Option<&AtomicBool>,
     ) -> Result<LoopOutcome, LoopError> {
+        if !(settings.dt > 0.0 && settings.dt.is_finite()) {
+            return Err(LoopError::Period(settings.dt));
+        }
         let mut sensed = self.plant.sensed();
         if settings.feed == Feed::Exact && sensed.truth.is_none() {
             return Err(LoopError::NoTruth);

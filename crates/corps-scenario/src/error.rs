@@ -15,7 +15,7 @@ pub enum ScenarioError {
         context: String,
         source: Box<ScenarioError>,
     },
-    /// The run was interrupted before its controller took over, at `t` s of settling.
+    /// The run was interrupted before its controller took over (`t` = 0 s of control).
     #[error("interrupted at t = {t:.3} s")]
     Interrupted { t: f64 },
     /// Writing the run's outputs failed.

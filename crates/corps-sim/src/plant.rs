@@ -37,6 +37,9 @@ struct Shared {
     requested: AtomicU64,
     done: AtomicU64,
     stop: AtomicBool,
+    /// The thread that steps the robot (the worker wakes it); a robot moved to another
+    /// thread updates it at its next preparation.
+    stepper: Mutex<Thread>,
 }
 
 fn worker_failed() -> PlantError {
@@ -59,7 +62,7 @@ pub struct SimulatedRobot {
 
 impl SimulatedRobot {
     /// `sim` read through `sensors`; a worker thread starts unless `overlap` is
-    /// [`Overlap::Never`]. The robot must be stepped from the thread that created it.
+    /// [`Overlap::Never`]. The robot may be moved to another thread between ticks.
     pub fn new(sim: Simulator, sensors: Sensors, overlap: Overlap) -> Self {
         let points = sim.contact_points().len();
         let shared = Arc::new(Shared {
@@ -67,10 +70,11 @@ impl SimulatedRobot {
             requested: AtomicU64::new(0),
             done: AtomicU64::new(0),
             stop: AtomicBool::new(false),
+            stepper: Mutex::new(std::thread::current()),
         });
         let worker = (overlap != Overlap::Never).then(|| {
-            let (shared, caller) = (shared.clone(), std::thread::current());
-            std::thread::spawn(move || prepare_on_request(&shared, caller))
+            let shared = shared.clone();
+            std::thread::spawn(move || prepare_on_request(&shared))
         });
         Self {
             shared,
@@ -211,6 +215,12 @@ impl Plant for SimulatedRobot {
         if !self.schedule.overlap_this_tick() {
             return;
         }
+        let here = std::thread::current();
+        if let Ok(mut stepper) = self.shared.stepper.lock() {
+            if stepper.id() != here.id() {
+                *stepper = here;
+            }
+        }
         self.requested += 1;
         self.shared
             .requested
@@ -240,7 +250,7 @@ impl Plant for SimulatedRobot {
 
 /// The worker: prepares each requested step, tells the caller's thread, then waits for the
 /// next request (spinning briefly, then parked) until the robot stops it.
-fn prepare_on_request(shared: &Shared, caller: Thread) {
+fn prepare_on_request(shared: &Shared) {
     let mut seen = 0;
     loop {
         let start = Instant::now();
@@ -266,6 +276,8 @@ fn prepare_on_request(shared: &Shared, caller: Thread) {
             Err(_) => return,
         }
         shared.done.store(seen, Ordering::Release);
-        caller.unpark();
+        if let Ok(stepper) = shared.stepper.lock() {
+            stepper.unpark();
+        }
     }
 }

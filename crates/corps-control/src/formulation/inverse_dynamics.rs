@@ -1,10 +1,10 @@
 //! TSID's acceleration–force inverse-dynamics formulation (`InverseDynamicsFormulationAccForce`
 //! solved as one weighted QP): variables `x = [q̈; f₁; …; f_k]`;
-//! - equalities: the floating-base rows of the dynamics `M_u q̈ − Jc_uᵀ f = −h_u`, and each
-//!   contact's motion task `J q̈ = a_des − J̇ v`;
+//! - equalities: the floating-base rows of the dynamics `M_u q̈ − Jc_uᵀ f = −h_u`, each
+//!   contact's motion task `J q̈ = a_des − J̇ v`, and the rows of the stack's priority-0 tasks
+//!   `A q̈ = b` (an equality has no weight: it holds until the task leaves the stack);
 //! - inequalities: each contact's friction pyramid and normal-force bounds, and the actuation
 //!   bounds `τ_min − h_a ≤ M_a q̈ − Jc_aᵀ f ≤ τ_max − h_a`;
-//!   and the rows of the stack's priority-0 tasks `A q̈ = b`;
 //! - cost: Σ w‖A_k x − b_k‖² over the stack's priority-1 tasks (any [`crate::Task`] of acceleration
 //!   level: CoM, posture, angular momentum, frames, ...) and the contact force
 //!   regularizations and force tasks, plus 1e-8‖x‖² (TSID's Hessian regularization).
@@ -78,7 +78,7 @@ impl InverseDynamics {
         let first = if model.has_free_flyer() { 6 } else { 0 };
         let na = model.nv - first;
         Self {
-            tasks: TaskStack::new(TaskLevel::Acceleration),
+            tasks: TaskStack::with_max_priority(TaskLevel::Acceleration, 1),
             contacts: Vec::new(),
             actuation: None,
             joint_bounds: None,
@@ -267,6 +267,19 @@ impl InverseDynamics {
                     e.priority
                 ),
             });
+        }
+        let na = model.nv - self.first;
+        if let Some((lower, upper)) = &self.actuation {
+            if lower.len() != na || upper.len() != na {
+                return Err(ControlError::Config {
+                    name: "actuation".into(),
+                    reason: format!(
+                        "bounds of sizes {} and {}, the model has {na} actuated dofs",
+                        lower.len(),
+                        upper.len()
+                    ),
+                });
+            }
         }
         let (n, n_eq, n_in) = self.dims(model);
         if self.problem.dims() != (n, n_eq, n_in) {

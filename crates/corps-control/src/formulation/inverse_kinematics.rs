@@ -300,6 +300,11 @@ impl InverseKinematics {
         Ok(())
     }
 
+    /// Advances the stack's weight ramps to time `t` (call once per tick before `compute`).
+    pub fn update_transitions(&mut self, t: f64) {
+        self.tasks.update(t);
+    }
+
     /// Solves the stack at `state` (the measured or estimated robot state, whose
     /// `RobotState::update` has run) and integrates `q_des = q_from ⊕ dt·v*`.
     /// The position limits are applied to `q_from + dt·v`.

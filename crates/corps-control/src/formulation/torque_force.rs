@@ -2,7 +2,8 @@
 //! decision variable of its stack of tasks, Eq 2.40–2.45): the joint accelerations are a
 //! function of u through the dynamics, ν̇(u) = M⁻¹(Sᵀτ + J_cᵀf − h) = G u + d, so that a task
 //! `A ν̇ = b` becomes the rows `(A G) u = b − A d`:
-//! - equalities: each contact's motion rows and the stack's priority-0 tasks;
+//! - equalities: each contact's motion rows and the stack's priority-0 tasks (no weight: an
+//!   equality holds until its task leaves the stack);
 //! - inequalities: each contact's friction pyramid and normal-force bounds; torque bounds as
 //!   bounds on τ;
 //! - cost: Σ w‖A G u − (b − A d)‖² over the priority-1 tasks, the contacts' force
@@ -68,7 +69,7 @@ impl TorqueForce {
         let first = model.first_actuated();
         let na = model.nv - first;
         Self {
-            tasks: TaskStack::new(TaskLevel::Acceleration),
+            tasks: TaskStack::with_max_priority(TaskLevel::Acceleration, 1),
             contacts: Vec::new(),
             contact_forces: Vec::new(),
             torque_weight: 1e-4,
@@ -125,6 +126,18 @@ impl TorqueForce {
         let (n, n_eq, n_in) = self.dims(model);
         let (nv, first) = (model.nv, self.first);
         let na = nv - first;
+        if let Some((lower, upper)) = &self.actuation {
+            if lower.len() != na || upper.len() != na {
+                return Err(ControlError::Config {
+                    name: "actuation".into(),
+                    reason: format!(
+                        "bounds of sizes {} and {}, the model has {na} actuated dofs",
+                        lower.len(),
+                        upper.len()
+                    ),
+                });
+            }
+        }
         if self.problem.dims() != (n, n_eq, n_in) {
             self.problem = QpProblem::new(n, n_eq, n_in);
             self.solver.resize(n, n_eq, n_in);

@@ -98,6 +98,8 @@ impl ConvexPolygon {
 
     /// Half-space form of a polygon of three vertices or more: for each edge, the outward
     /// unit normal `n` and offset `d` with `nᵀ p ≤ d` inside (the rows of a ZMP constraint).
+    /// A point or a segment has no interior and gives no rows: constrain a point to it with
+    /// [`ConvexPolygon::closest_point`] instead.
     pub fn half_spaces(&self) -> impl Iterator<Item = (Vector2<f64>, f64)> + '_ {
         let n = if self.len >= 3 { self.len } else { 0 };
         (0..n).map(move |i| {
@@ -110,8 +112,12 @@ impl ConvexPolygon {
     }
 
     /// Signed distance from `p` to the boundary: negative inside (minus the distance to the
-    /// nearest edge), positive outside (the Euclidean distance to the polygon).
+    /// nearest edge), positive outside (the Euclidean distance to the polygon); NaN for a
+    /// point that is not finite, +∞ for an empty polygon.
     pub fn signed_distance(&self, p: &Vector2<f64>) -> f64 {
+        if !(p.x.is_finite() && p.y.is_finite()) {
+            return f64::NAN;
+        }
         if self.len < 3 {
             return match self.len {
                 0 => f64::INFINITY,
@@ -128,7 +134,8 @@ impl ConvexPolygon {
         (self.closest_point(p) - p).norm()
     }
 
-    /// Whether `p` is inside or within `tolerance` of the polygon.
+    /// Whether `p` is inside or within `tolerance` of the polygon (never for an empty polygon
+    /// or a point that is not finite).
     pub fn contains(&self, p: &Vector2<f64>, tolerance: f64) -> bool {
         self.signed_distance(p) <= tolerance
     }
@@ -223,5 +230,8 @@ mod tests {
         assert_eq!(segment.closest_point(&v(1.0, 1.0)), v(1.0, 0.0));
         assert!(segment.contains(&v(1.0, 0.05), 0.1));
         assert_eq!(segment.half_spaces().count(), 0);
+        let square = ConvexPolygon::hull(&[v(0.0, 0.0), v(1.0, 0.0), v(1.0, 1.0), v(0.0, 1.0)]);
+        assert!(!square.contains(&v(f64::NAN, 0.5), 1.0));
+        assert!(square.signed_distance(&v(0.5, f64::INFINITY)).is_nan());
     }
 }

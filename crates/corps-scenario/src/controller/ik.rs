@@ -95,13 +95,14 @@ impl IkController {
 impl WholeBodyController for IkController {
     fn tick(
         &mut self,
-        _t: f64,
+        t: f64,
         _q: &[f64],
         _v: &[f64],
         targets: &Targets,
         _measured: &super::Measured,
     ) -> Option<FallbackReason> {
         let model = self.model.clone();
+        self.ik.update_transitions(t);
         let solved = self
             .set_references(targets)
             .and_then(|_| {

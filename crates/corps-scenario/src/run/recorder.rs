@@ -93,7 +93,8 @@ pub(crate) fn support(feet: &[Se3; 2]) -> f64 {
 impl Observer<ScenarioController> for Recorder<'_, '_> {
     fn observe(&mut self, tick: &Tick<'_, ScenarioController>) -> Flow {
         let Some(truth) = &tick.sensed.truth else {
-            // Only a plant that knows its true state is scored.
+            // The metrics, the rows and the verdict compare with the true state: a plant
+            // without one (a real robot) gets none of them from this recorder.
             return Flow::Continue;
         };
         let s = &self.setup;

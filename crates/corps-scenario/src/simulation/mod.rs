@@ -62,6 +62,11 @@ pub struct Simulation {
 impl Simulation {
     /// Builds the world of `scenario` (relative paths resolve from `base_dir`).
     pub fn new(scenario: &Scenario, base_dir: &Path) -> Result<Self> {
+        if scenario.controller.is_some() {
+            crate::error::bail!(
+                "this scenario has a [controller]: run it closed-loop (`corps run`, ScenarioRun)"
+            );
+        }
         let setup = setup::build(scenario, base_dir)?;
         let ft_names: Vec<String> = (setup.sensors.force_torque_names())
             .map(String::from)
