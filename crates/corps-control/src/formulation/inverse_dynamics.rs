@@ -12,7 +12,8 @@
 //! Torques follow from the actuated rows: `τ = M_a q̈ + h_a − Jc_aᵀ f`.
 
 use super::qp_terms::{
-    add_task_cost, add_wrench_cost, copy_block, copy_block_neg_transposed, RowScratch,
+    add_force_terms, add_task_cost, check_actuation, copy_block, copy_block_neg_transposed,
+    torque_tick, RowScratch,
 };
 use crate::contacts::Contact;
 use crate::error::{ControlError, Result};
@@ -218,26 +219,11 @@ impl InverseDynamics {
         safe_damping: f64,
         tau: &mut DVector<f64>,
     ) -> Option<crate::FallbackReason> {
-        use crate::FallbackReason;
-        let reason = match (
-            model.check_configuration(q),
-            model.check_tangent("velocity v", v),
-        ) {
-            (Err(e), _) | (_, Err(e)) => Some(FallbackReason::BadState(e.to_string())),
-            _ => {
-                self.update_transitions(t);
-                let solved = state
-                    .update(model, q, v)
-                    .map_err(ControlError::from)
-                    .and_then(|_| self.compute(model, state).map(|_| ()));
-                solved.err().map(FallbackReason::Controller)
-            }
-        };
-        match reason {
-            None => tau.copy_from(&self.output.tau),
-            Some(_) => crate::safe_torques(model, &mut state.data, q, v, safe_damping, tau),
-        }
-        reason
+        torque_tick(model, state, q, v, safe_damping, tau, |state, tau| {
+            self.update_transitions(t);
+            tau.copy_from(&self.compute(model, state)?.tau);
+            Ok(())
+        })
     }
 
     /// Problem sizes (variables, equalities, inequalities) for the current contacts.
@@ -269,18 +255,7 @@ impl InverseDynamics {
             });
         }
         let na = model.nv - self.first;
-        if let Some((lower, upper)) = &self.actuation {
-            if lower.len() != na || upper.len() != na {
-                return Err(ControlError::Config {
-                    name: "actuation".into(),
-                    reason: format!(
-                        "bounds of sizes {} and {}, the model has {na} actuated dofs",
-                        lower.len(),
-                        upper.len()
-                    ),
-                });
-            }
-        }
+        check_actuation(&self.actuation, na)?;
         let (n, n_eq, n_in) = self.dims(model);
         if self.problem.dims() != (n, n_eq, n_in) {
             self.problem = QpProblem::new(n, n_eq, n_in);
@@ -324,30 +299,7 @@ impl InverseDynamics {
             let nm = contact.n_motion();
             copy_block(&mut p.a, (r_eq, 0), &rows.a, (0, 0), (nm, nv));
             p.b.rows_mut(r_eq, nm).copy_from(&rows.b.rows(0, nm));
-            contact.force_constraints(&mut p.c, &mut p.l, &mut p.u, r_in, col);
-            add_wrench_cost(
-                &mut p.h,
-                &mut p.g,
-                col,
-                &contact.t,
-                &contact.force_reg_components,
-                &contact.force_reference,
-                contact.force_reg_weight,
-            );
-            for (task, w) in &self.contact_forces {
-                if task.contact == contact.name {
-                    let ones = nalgebra::Vector6::repeat(1.0);
-                    add_wrench_cost(
-                        &mut p.h,
-                        &mut p.g,
-                        col,
-                        &contact.t,
-                        &ones,
-                        &task.desired,
-                        *w,
-                    );
-                }
-            }
+            add_force_terms(p, contact, &self.contact_forces, r_in, col);
             col += contact.n_force();
             r_eq += nm;
             r_in += contact.n_rows();

@@ -1,8 +1,99 @@
 //! The pieces every QP formulation assembles its problem from: weighted task rows into the
 //! Hessian and gradient, a contact's wrench cost, block copies.
 
-use crate::tasks::TaskRows;
+use crate::contacts::Contact;
+use crate::error::{ControlError, Result};
+use crate::robot_state::RobotState;
+use crate::tasks::{ContactForceTask, TaskRows};
+use crate::FallbackReason;
+use corps_model::Model;
+use corps_qp::QpProblem;
 use nalgebra::{DMatrix, DVector};
+
+/// One control tick of a formulation that outputs torques: checks (q, v), computes the
+/// model terms, lets `solve` write the torques (na) to `tau`; when the state is not finite or
+/// `solve` fails, `tau` gets the safe command ([`crate::safe_torques`], damping
+/// `safe_damping`) and the reason is returned.
+pub(crate) fn torque_tick(
+    model: &Model,
+    state: &mut RobotState,
+    q: &[f64],
+    v: &[f64],
+    safe_damping: f64,
+    tau: &mut DVector<f64>,
+    solve: impl FnOnce(&RobotState, &mut DVector<f64>) -> Result<()>,
+) -> Option<FallbackReason> {
+    let reason = match (
+        model.check_configuration(q),
+        model.check_tangent("velocity v", v),
+    ) {
+        (Err(e), _) | (_, Err(e)) => Some(FallbackReason::BadState(e.to_string())),
+        _ => (state.update(model, q, v).map_err(ControlError::from))
+            .and_then(|_| solve(state, tau))
+            .err()
+            .map(FallbackReason::Controller),
+    };
+    if reason.is_some() {
+        crate::safe_torques(model, &mut state.data, q, v, safe_damping, tau);
+    }
+    reason
+}
+
+/// A contact's force terms, its force variables starting at column `col`: the friction
+/// pyramid and normal-force bounds from inequality row `row`, the force regularization and
+/// the force tasks that name it.
+pub(crate) fn add_force_terms(
+    p: &mut QpProblem,
+    contact: &Contact,
+    force_tasks: &[(ContactForceTask, f64)],
+    row: usize,
+    col: usize,
+) {
+    contact.force_constraints(&mut p.c, &mut p.l, &mut p.u, row, col);
+    add_wrench_cost(
+        &mut p.h,
+        &mut p.g,
+        col,
+        &contact.t,
+        &contact.force_reg_components,
+        &contact.force_reference,
+        contact.force_reg_weight,
+    );
+    for (task, w) in force_tasks {
+        if task.contact == contact.name {
+            let ones = nalgebra::Vector6::repeat(1.0);
+            add_wrench_cost(
+                &mut p.h,
+                &mut p.g,
+                col,
+                &contact.t,
+                &ones,
+                &task.desired,
+                *w,
+            );
+        }
+    }
+}
+
+/// Actuation bounds of `na` entries each, or an error naming their sizes.
+pub(crate) fn check_actuation(
+    actuation: &Option<(DVector<f64>, DVector<f64>)>,
+    na: usize,
+) -> Result<()> {
+    match actuation {
+        Some((lower, upper)) if lower.len() != na || upper.len() != na => {
+            Err(ControlError::Config {
+                name: "actuation".into(),
+                reason: format!(
+                    "bounds of sizes {} and {}, the model has {na} actuated dofs",
+                    lower.len(),
+                    upper.len()
+                ),
+            })
+        }
+        _ => Ok(()),
+    }
+}
 
 /// One task row gathered for [`add_least_squares`]: its values and its non-zero columns.
 #[derive(Clone, Debug)]

@@ -14,7 +14,9 @@
 //! regularizations (`tests/torque_force.rs` compares them); it is the form seed 001's
 //! controllers take, and the one where a torque cost or a torque-rate bound is a plain row.
 
-use super::qp_terms::{add_task_cost, add_wrench_cost, copy_block, RowScratch};
+use super::qp_terms::{
+    add_force_terms, add_task_cost, check_actuation, copy_block, torque_tick, RowScratch,
+};
 use super::HESSIAN_REGULARIZATION;
 use crate::contacts::Contact;
 use crate::error::{ControlError, Result};
@@ -126,18 +128,7 @@ impl TorqueForce {
         let (n, n_eq, n_in) = self.dims(model);
         let (nv, first) = (model.nv, self.first);
         let na = nv - first;
-        if let Some((lower, upper)) = &self.actuation {
-            if lower.len() != na || upper.len() != na {
-                return Err(ControlError::Config {
-                    name: "actuation".into(),
-                    reason: format!(
-                        "bounds of sizes {} and {}, the model has {na} actuated dofs",
-                        lower.len(),
-                        upper.len()
-                    ),
-                });
-            }
-        }
+        check_actuation(&self.actuation, na)?;
         if self.problem.dims() != (n, n_eq, n_in) {
             self.problem = QpProblem::new(n, n_eq, n_in);
             self.solver.resize(n, n_eq, n_in);
@@ -198,30 +189,7 @@ impl TorqueForce {
             copy_block(&mut p.a, (r_eq, 0), &self.mapped[i].a, (0, 0), (m, n));
             p.b.rows_mut(r_eq, m)
                 .copy_from(&self.mapped[i].b.rows(0, m));
-            contact.force_constraints(&mut p.c, &mut p.l, &mut p.u, r_in, col);
-            add_wrench_cost(
-                &mut p.h,
-                &mut p.g,
-                col,
-                &contact.t,
-                &contact.force_reg_components,
-                &contact.force_reference,
-                contact.force_reg_weight,
-            );
-            for (task, w) in &self.contact_forces {
-                if task.contact == contact.name {
-                    let ones = nalgebra::Vector6::repeat(1.0);
-                    add_wrench_cost(
-                        &mut p.h,
-                        &mut p.g,
-                        col,
-                        &contact.t,
-                        &ones,
-                        &task.desired,
-                        *w,
-                    );
-                }
-            }
+            add_force_terms(p, contact, &self.contact_forces, r_in, col);
             col += contact.n_force();
             r_eq += m;
             r_in += contact.n_rows();
@@ -284,25 +252,11 @@ impl TorqueForce {
         safe_damping: f64,
         tau: &mut DVector<f64>,
     ) -> Option<FallbackReason> {
-        let reason = match (
-            model.check_configuration(q),
-            model.check_tangent("velocity v", v),
-        ) {
-            (Err(e), _) | (_, Err(e)) => Some(FallbackReason::BadState(e.to_string())),
-            _ => {
-                self.tasks.update(t);
-                let solved = state
-                    .update(model, q, v)
-                    .map_err(ControlError::from)
-                    .and_then(|_| self.compute(model, state).map(|_| ()));
-                solved.err().map(FallbackReason::Controller)
-            }
-        };
-        match reason {
-            None => tau.copy_from(&self.output.tau),
-            Some(_) => crate::safe_torques(model, &mut state.data, q, v, safe_damping, tau),
-        }
-        reason
+        torque_tick(model, state, q, v, safe_damping, tau, |state, tau| {
+            self.tasks.update(t);
+            tau.copy_from(&self.compute(model, state)?.tau);
+            Ok(())
+        })
     }
 }
 
