@@ -5,7 +5,9 @@
 
 use corps_control::contacts::Contact;
 use corps_control::formulation::InverseDynamics;
-use corps_control::tasks::{AngularMomentumTask, ComTask, PostureTask, Reference, Se3Reference};
+use corps_control::tasks::{
+    AngularMomentumTask, ComTask, PostureTask, Reference, Se3Reference, Se3Task,
+};
 use corps_model::spatial::{Motion, Se3};
 use corps_model::Model;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
@@ -98,6 +100,24 @@ pub fn configure(model: &Model, tick: &Value) -> InverseDynamics {
         contact.force_reg_components = v6(&c["force_reg"]["component_weights"]);
         contact.force_reference = v6(&c["force_reg"]["f_ref"]);
         id.contacts.push(contact);
+    }
+    for t in tick["se3_tasks"].as_array().into_iter().flatten() {
+        let name = t["frame"].as_str().unwrap();
+        let r = &t["ref"];
+        let rot = mat(&r["rotation"]);
+        let reference = Se3Reference {
+            placement: Se3::new(Matrix3::from_fn(|i, j| rot[(i, j)]), v3(&r["translation"])),
+            velocity: Motion::from_slice(&vecf(&r["vel"])),
+            acceleration: Motion::from_slice(&vecf(&r["acc"])),
+        };
+        let frame = model.frame_id(name).unwrap();
+        let mut task = Se3Task::new(model.nv, frame, v6(&t["Kp"]), v6(&t["Kd"]), reference);
+        task.mask = v6(&t["mask"]);
+        let priority = t["priority"].as_u64().unwrap() as usize;
+        let weight = t["weight"].as_f64().unwrap();
+        (id.tasks)
+            .add(&format!("se3 {name}"), task, priority, weight)
+            .unwrap();
     }
     id.actuation = Some((
         dvec(&tick["actuation"]["lower"]),
