@@ -8,27 +8,12 @@ use corps_loop::{
     ClosedLoop, Command, Controller, Feed, Flow, LoopEnd, LoopError, LoopSettings, Observer, Plant,
     PlantError, ReferenceSource, Sensed, Tick, Truth,
 };
+use corps_testkit::{allocations, CountingAllocator};
 use nalgebra::{DVector, Vector3};
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::sync::atomic::AtomicBool;
 
-/// Counts the allocations of each thread (tests run in parallel).
-struct Counting;
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-}
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 const DT: f64 = 0.01;
 
@@ -348,10 +333,10 @@ fn the_loop_allocates_nothing_per_tick() {
     let count = |ticks| {
         let mut run = closed_loop(Mass::new(), f64::INFINITY);
         let mut watch = Watch::new(usize::MAX);
-        let before = ALLOCATIONS.with(Cell::get);
+        let before = allocations();
         run.run(&settings(ticks, Feed::Measured), &mut [&mut watch], None)
             .unwrap();
-        ALLOCATIONS.with(Cell::get) - before
+        allocations() - before
     };
     let (short, long) = (count(10), count(1000));
     // The sensed buffer is sized once per run; the ticks add nothing.
