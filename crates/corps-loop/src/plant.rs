@@ -72,8 +72,6 @@ pub struct Sensed {
 /// The robot in the loop. Implementations size [`Sensed`] once ([`Plant::sensed`]) and then
 /// fill it each tick without allocating.
 pub trait Plant: Send {
-    /// Plant time of the current state (s).
-    fn time(&self) -> f64;
     /// A buffer of the right sizes for [`Plant::sense`].
     fn sensed(&self) -> Sensed;
     /// Reads the sensors (and the true state, if known) of the current state into `out`.
@@ -86,9 +84,6 @@ pub trait Plant: Send {
 }
 
 impl<P: Plant + ?Sized> Plant for Box<P> {
-    fn time(&self) -> f64 {
-        (**self).time()
-    }
     fn sensed(&self) -> Sensed {
         (**self).sensed()
     }

@@ -49,9 +49,6 @@ impl Mass {
 }
 
 impl Plant for Mass {
-    fn time(&self) -> f64 {
-        self.t
-    }
     fn sensed(&self) -> Sensed {
         Sensed {
             time: self.t,

@@ -96,7 +96,8 @@ mod tests {
         let model = talos();
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../config/talos/gazebo_pid.toml");
         let g = load(&model, &path).unwrap();
-        let knee = model.joints[model.joint_id("leg_left_4_joint").unwrap()].idx_v - 6;
+        let knee = model.joints[model.joint_id("leg_left_4_joint").unwrap()].idx_v
+            - model.first_actuated();
         assert_eq!((g.kp[knee], g.kd[knee]), (5000.0, 20.0));
         let i = g.integral.unwrap();
         assert_eq!(

@@ -15,7 +15,7 @@ use crate::{Sensors, SimError, Simulator};
 use corps_loop::{Command, ContactForce, Plant, PlantError, Sensed, Truth};
 use corps_model::com_at_placements;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex};
 use std::thread::{JoinHandle, Thread};
 use std::time::{Duration, Instant};
 
@@ -88,11 +88,6 @@ impl SimulatedRobot {
         }
     }
 
-    /// The simulator, for reading its state between ticks.
-    pub fn simulator(&self) -> Result<MutexGuard<'_, Simulator>, PlantError> {
-        self.shared.sim.lock().map_err(|_| worker_failed())
-    }
-
     /// How many ticks overlapped and how many ran serially.
     pub fn overlap_counts(&self) -> (u64, u64) {
         self.schedule.counts()
@@ -153,14 +148,6 @@ impl Drop for SimulatedRobot {
 }
 
 impl Plant for SimulatedRobot {
-    fn time(&self) -> f64 {
-        self.shared
-            .sim
-            .lock()
-            .unwrap_or_else(|p| p.into_inner())
-            .time()
-    }
-
     fn sensed(&self) -> Sensed {
         let sim = self.shared.sim.lock().unwrap_or_else(|p| p.into_inner());
         let readings = self.sensors.measured().clone();

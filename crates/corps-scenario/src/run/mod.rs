@@ -18,7 +18,7 @@ use crate::controller::{TsidController, TsidMode};
 use crate::error::{bail, invalid, Context, Result};
 use crate::estimation;
 use crate::gains;
-use crate::metrics::{FootMetrics, Metrics, WalkMetrics, WalkingErrors};
+use crate::metrics::{DynamicFilterMetrics, FootMetrics, Metrics, WalkMetrics, WalkingErrors};
 use crate::motion::{self, MotionPlan, MotionSection};
 use crate::scenario::Scenario;
 use crate::series::PlotBuffer;
@@ -81,6 +81,8 @@ pub struct ScenarioRun {
     handover: f64,
     feet0: [corps_model::spatial::Se3; 2],
     mass: f64,
+    /// The dynamic filter's figures, for a filtered walk.
+    dynamic_filter: Option<DynamicFilterMetrics>,
     interrupt: Option<&'static AtomicBool>,
 }
 
@@ -239,10 +241,6 @@ impl ScenarioRun {
                 "the scenario's [noise]".into()
             },
             thesis: scenario.thesis.clone(),
-            walk: dynamic_filter.map(|f| WalkMetrics {
-                dynamic_filter: Some(f),
-                ..Default::default()
-            }),
             ..Default::default()
         };
         let verdict =
@@ -281,6 +279,7 @@ impl ScenarioRun {
             handover,
             feet0,
             mass,
+            dynamic_filter,
             interrupt: options.interrupt,
         })
     }
@@ -313,6 +312,7 @@ impl ScenarioRun {
             handover,
             feet0,
             mass,
+            dynamic_filter,
             interrupt,
         } = self;
         let dt = settings.dt;
@@ -352,7 +352,6 @@ impl ScenarioRun {
             let base = Vector3::new(q[0], q[1], q[2]);
             let distance = (base - base0).xy().norm();
             let weight = mass * GRAVITY * distance.max(1e-9);
-            let dynamic_filter = m.walk.take().and_then(|w| w.dynamic_filter);
             m.walk = Some(WalkMetrics {
                 distance,
                 final_base_error: (base - planned).xy().norm(),
