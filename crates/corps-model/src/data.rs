@@ -53,13 +53,14 @@ pub struct Data {
     pub ycrb: Vec<Matrix6<f64>>,
     /// Composite rigid-body inertias in the world frame (CRBA, centroidal map).
     pub composite: Vec<OriginInertia>,
-    /// Composite Coriolis-like matrices (Coriolis matrix algorithm) / articulated inertias (ABA).
+    /// Composite Coriolis-like matrices (Coriolis matrix algorithm) / articulated inertias (ABA,
+    /// local).
     pub bcrb: Vec<Matrix6<f64>>,
     /// Per-dof spatial forces (CRBA `Ycrb S`, ABA `U`, Coriolis `Ycrb J̇ + Bcrb J`).
     pub f_cols: Matrix6xX<f64>,
     /// External wrenches on each joint's body, world frame (ABA with external forces).
     pub fext: Vec<Force>,
-    /// ABA bias forces, world frame.
+    /// ABA bias forces, local.
     pub pa: Vec<Force>,
     /// ABA: 1/D per dof.
     pub d_inv: DVector<f64>,
@@ -83,6 +84,9 @@ pub struct Data {
     pub kinetic_energy: f64,
     /// Potential energy in the gravity field.
     pub potential_energy: f64,
+    /// M⁻¹ recursion: per joint, the accelerations (world, at the origin) of its body under
+    /// each unit torque c ≥ its first dof.
+    pub minv_acc: Vec<Matrix6xX<f64>>,
     /// Scratch vector of size nv.
     pub tmp_nv: DVector<f64>,
     /// Scratch 6 × nv matrix.
@@ -130,6 +134,7 @@ impl Data {
             dag_v: Force::zero(),
             kinetic_energy: 0.0,
             potential_energy: 0.0,
+            minv_acc: vec![Matrix6xX::zeros(nv); n],
             tmp_nv: DVector::zeros(nv),
             tmp_6xnv: Matrix6xX::zeros(nv),
         }

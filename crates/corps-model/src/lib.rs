@@ -48,8 +48,8 @@ pub use algorithms::centroidal::{
     compute_centroidal_map, compute_centroidal_momentum, jacobian_center_of_mass,
 };
 pub use algorithms::cholesky::{
-    compute_minverse, factorize_branch_sparse, factorize_mass_matrix, forward_dynamics_crba,
-    solve_mass_matrix,
+    compute_minverse_factorized, factorize_branch_sparse, factorize_mass_matrix,
+    forward_dynamics_crba, solve_mass_matrix,
 };
 pub use algorithms::coriolis::coriolis_matrix;
 pub use algorithms::crba::{crba, crba_at_jacobians};
@@ -60,6 +60,7 @@ pub use algorithms::jacobians::{
     ReferenceFrame,
 };
 pub use algorithms::kinematics::{forward_kinematics, forward_kinematics_placements};
+pub use algorithms::minverse::compute_minverse;
 pub use algorithms::operational_space::frame_operational_space_inertia;
 pub use algorithms::rnea::{
     generalized_gravity, nonlinear_effects, nonlinear_effects_at_placements, rnea,

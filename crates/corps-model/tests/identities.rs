@@ -95,21 +95,33 @@ fn aba_inverts_rnea_and_agrees_with_crba_forward_dynamics() {
 }
 
 #[test]
-fn minverse_inverts_m() {
+fn minverse_inverts_m_and_both_routes_agree() {
     for (name, model) in robots() {
         let mut data = Data::new(&model);
-        let (q, ..) = random_state(&model, 7);
-        let minv = compute_minverse(&model, &mut data, q.as_slice())
-            .unwrap()
-            .clone();
-        let prod = &data.m * &minv;
-        let id = DMatrix::<f64>::identity(model.nv, model.nv);
-        assert_close(
-            &format!("{name} M M⁻¹"),
-            prod.as_slice(),
-            id.as_slice(),
-            1e-9,
-        );
+        for seed in [7, 8, 9] {
+            let (q, ..) = random_state(&model, seed);
+            let m = crba(&model, &mut data, q.as_slice()).unwrap().clone();
+            let minv = compute_minverse(&model, &mut data, q.as_slice())
+                .unwrap()
+                .clone();
+            let prod = &m * &minv;
+            let id = DMatrix::<f64>::identity(model.nv, model.nv);
+            assert_close(
+                &format!("{name} M M⁻¹"),
+                prod.as_slice(),
+                id.as_slice(),
+                1e-9,
+            );
+            let factorized = compute_minverse_factorized(&model, &mut data, q.as_slice())
+                .unwrap()
+                .clone();
+            assert_close(
+                &format!("{name} M⁻¹ by the recursion and by the factorization"),
+                minv.as_slice(),
+                factorized.as_slice(),
+                1e-10,
+            );
+        }
     }
 }
 
@@ -571,16 +583,26 @@ fn aba_world_accelerations_match_forward_kinematics() {
         let mut fk = Data::new(&model);
         let mut from_jacobians = Data::new(&model);
         let (q, v, _, tau) = random_state(&model, 4);
-        let ddq = aba(
+        let ddq = aba_with_external_forces(
             &model,
             &mut data,
             q.as_slice(),
             v.as_slice(),
             tau.as_slice(),
+            |_, _, _| {},
         )
         .unwrap()
         .clone();
         forward_kinematics(&model, &mut fk, q.as_slice(), v.as_slice(), ddq.as_slice()).unwrap();
+        let mut plain = Data::new(&model);
+        aba(
+            &model,
+            &mut plain,
+            q.as_slice(),
+            v.as_slice(),
+            tau.as_slice(),
+        )
+        .unwrap();
         compute_joint_jacobians(&model, &mut from_jacobians, q.as_slice()).unwrap();
         world_motions_from_jacobians(&model, &mut from_jacobians, v.as_slice(), ddq.as_slice())
             .unwrap();
@@ -603,6 +625,19 @@ fn aba_world_accelerations_match_forward_kinematics() {
                 data.oa[i].to_vector().as_slice(),
                 expected.to_vector().as_slice(),
                 1e-9,
+            );
+            let local_g = fk.o_m_i[i].act_inv_motion(&g);
+            assert_close(
+                &format!("{name} joint {i} local acceleration"),
+                plain.a[i].to_vector().as_slice(),
+                (fk.a[i] + local_g).to_vector().as_slice(),
+                1e-9,
+            );
+            assert_close(
+                &format!("{name} joint {i} local velocity"),
+                plain.v[i].to_vector().as_slice(),
+                fk.v[i].to_vector().as_slice(),
+                1e-12,
             );
             let ov = fk.o_m_i[i].act_motion(&fk.v[i]);
             assert_close(

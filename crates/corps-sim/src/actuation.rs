@@ -55,7 +55,7 @@ impl ServoGains {
             });
         }
         let mut data = Data::new(model);
-        let minv = corps_model::compute_minverse(model, &mut data, q)?;
+        let minv = corps_model::compute_minverse_factorized(model, &mut data, q)?;
         let first = first_actuated(model);
         let na = model.nv - first;
         let kp = DVector::from_fn(na, |k, _| {

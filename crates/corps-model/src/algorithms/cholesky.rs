@@ -99,10 +99,11 @@ fn solve_unit_lower(model: &Model, h: &[f64], b: &mut [f64]) {
     }
 }
 
-/// M(q)⁻¹, full and symmetric, written to and returned from `data.minv`. Column c solves
-/// M x = e_c; the first sweep (L⁻ᵀ) only touches c and its ancestors, where e_c's image is
-/// non-zero.
-pub fn compute_minverse<'d>(
+/// M(q)⁻¹ through CRBA and the branch-sparse factorization, full and symmetric, written to and
+/// returned from `data.minv`: column c solves M x = e_c; the first sweep (L⁻ᵀ) only touches c
+/// and its ancestors, where e_c's image is non-zero. Slower than the O(n²) recursion
+/// [`crate::compute_minverse`]; an independent route to the same matrix.
+pub fn compute_minverse_factorized<'d>(
     model: &Model,
     data: &'d mut Data,
     q: &[f64],

@@ -10,5 +10,6 @@ pub mod crba;
 pub mod energy;
 pub mod jacobians;
 pub mod kinematics;
+pub mod minverse;
 pub mod operational_space;
 pub mod rnea;

@@ -86,3 +86,45 @@ pub fn m6_rank1_sub(y: &mut Matrix6<f64>, u: &Vector6<f64>, s: f64) {
         }
     }
 }
+
+/// `Y += ᵏXᵢᵀ X ᵏXᵢ`: a symmetric 6 × 6 inertia X in frame i added to Y in frame k, where frame i
+/// sits at `p` with axes `r` in k (the motion transform ᵏXᵢ⁻¹ = [[Rᵀ, −Rᵀ[p]×], [0, Rᵀ]]).
+/// Linear-first blocks [[A, B], [Bᵀ, C]]: rotated A = R A Rᵀ, B = R B Rᵀ, C = R C Rᵀ, then
+/// moved by p: A' = A, B' = B − A[p]×, C' = C − Bᵀ[p]× + [p]×B' (Featherstone, RBDA Eq. 2.66).
+#[inline(always)]
+pub fn m6_transformed_add(
+    y: &mut Matrix6<f64>,
+    x: &Matrix6<f64>,
+    r: &Matrix3<f64>,
+    p: &Vector3<f64>,
+) {
+    let xc = &x.data.0;
+    let block = |row: usize, col: usize| Matrix3::from_fn(|i, j| xc[col + j][row + i]);
+    let a = rotate_symmetric(r, &block(0, 0));
+    let mut b = m3m3(&m3m3(r, &block(0, 3)), &r.transpose());
+    let mut c = rotate_symmetric(r, &block(3, 3));
+    // Many joints share their parent's origin (p = 0: nothing to move). Otherwise row k of
+    // M[p]× is (row k of M) × p and column k of [p]×M is p × (column k of M).
+    if *p != Vector3::zeros() {
+        let row_cross = |m: &Matrix3<f64>, k: usize| {
+            let (x, y, z) = (m[(k, 0)], m[(k, 1)], m[(k, 2)]);
+            [y * p.z - z * p.y, z * p.x - x * p.z, x * p.y - y * p.x]
+        };
+        let b2 = Matrix3::from_fn(|i, j| b[(i, j)] - row_cross(&a, i)[j]);
+        let bt = b.transpose();
+        c = Matrix3::from_fn(|i, j| {
+            let pb = p.cross(&b2.column(j).into_owned());
+            c[(i, j)] - row_cross(&bt, i)[j] + pb[i]
+        });
+        b = b2;
+    }
+    let yc = &mut y.data.0;
+    for col in 0..3 {
+        for row in 0..3 {
+            yc[col][row] += a[(row, col)];
+            yc[col + 3][row] += b[(row, col)];
+            yc[col][row + 3] += b[(col, row)];
+            yc[col + 3][row + 3] += c[(row, col)];
+        }
+    }
+}
