@@ -124,6 +124,10 @@ pub struct ActiveSetSolver {
     eq_ok: bool,
     final_ok: bool,
     sol: Solution,
+    /// After `Infeasible`: constraints that together admit no point (see
+    /// [`ActiveSetSolver::infeasibility_certificate`]); the copy kept across the fallback.
+    certificate: Vec<ActiveConstraint>,
+    certificate_kept: Vec<ActiveConstraint>,
 }
 
 impl ActiveSetSolver {
@@ -197,6 +201,8 @@ impl ActiveSetSolver {
             eq_ok: false,
             final_ok: false,
             sol: Solution::new(0, 0, 0),
+            certificate: Vec::new(),
+            certificate_kept: Vec::new(),
         };
         s.resize(n, n_eq, n_in);
         s
@@ -259,6 +265,9 @@ impl ActiveSetSolver {
         self.v = zeros(ld);
         self.w = zeros(ld);
         self.sol = Solution::new(n, n_eq, n_in);
+        // A certificate holds at most the active set and the violated row.
+        self.certificate = Vec::with_capacity(n + 2);
+        self.certificate_kept = Vec::with_capacity(n + 2);
         self.copies_ok = false;
         self.reset();
     }
@@ -296,6 +305,17 @@ impl ActiveSetSolver {
     /// The last optimal solution (meaningful when [`ActiveSetSolver::status`] is `Optimal`).
     pub fn solution(&self) -> &Solution {
         &self.sol
+    }
+
+    /// After a solve that ended [`QpError::Infeasible`]: the constraints that conflict, a set
+    /// that alone admits no point (so every problem containing it is infeasible). It is the
+    /// dual method's proof: the violated constraint and the active ones whose normals combine
+    /// into its normal with multipliers that cannot move (an inequality side is listed as
+    /// `Lower`/`Upper`, a two-sided row whose interval is empty as both), or a redundant
+    /// equality row with the independent equalities it contradicts. Empty after any other
+    /// outcome.
+    pub fn infeasibility_certificate(&self) -> &[ActiveConstraint] {
+        &self.certificate
     }
 
     /// Whether the AVX2 + FMA kernels are used on this CPU (checked once at construction).
@@ -375,10 +395,23 @@ impl ActiveSetSolver {
         if c_changed {
             self.final_ok = false;
         }
-        match self.solve_both_ways::<F>() {
-            Err(QpError::Infeasible) => self.solve_proximal::<F>(),
+        self.certificate.clear();
+        let result = match self.solve_both_ways::<F>() {
+            Err(QpError::Infeasible) => {
+                self.certificate_kept.clone_from(&self.certificate);
+                let result = self.solve_proximal::<F>();
+                if result == Err(QpError::Infeasible) && self.certificate.is_empty() {
+                    // The fallback's answer was refused: the original proof stands.
+                    self.certificate.clone_from(&self.certificate_kept);
+                }
+                result
+            }
             r => r,
+        };
+        if result != Err(QpError::Infeasible) {
+            self.certificate.clear();
         }
+        result
     }
 
     /// Factors the copy of H (`chol`, `lt`, its diagonal blocks) and forgets what was built
@@ -480,6 +513,7 @@ impl ActiveSetSolver {
         if result.is_ok() {
             if !converged || !self.meets_kkt(PROX_ACCEPT) {
                 // No better answer than the proof the fallback was called to check.
+                self.certificate.clear();
                 return Err(QpError::Infeasible);
             }
             let x = &self.sol.x;
@@ -598,6 +632,7 @@ impl ActiveSetSolver {
             if self.eq_dep[k] {
                 let res = self.eval::<F>(Entry { id: k, sign: 1.0 }) - self.b[k];
                 if res.abs() > self.settings.primal_tol * (1.0 + self.b[k].abs()) {
+                    self.certify_equality(k);
                     return Err(QpError::Infeasible);
                 }
             }
@@ -840,6 +875,7 @@ impl ActiveSetSolver {
             if self.eq_dep[k] {
                 let res = self.eval::<F>(Entry { id: k, sign: 1.0 }) - self.b[k];
                 if res.abs() > self.settings.primal_tol * (1.0 + self.b[k].abs()) {
+                    self.certify_equality(k);
                     return Err(QpError::Infeasible);
                 }
             }
@@ -961,22 +997,45 @@ impl ActiveSetSolver {
         let a_changed = load_matrix("A", p.a.as_slice(), &mut self.a, trusted)?;
         let c_changed = load_matrix("C", p.c.as_slice(), &mut self.c, trusted)?;
         let inf = self.settings.infinity;
-        load_bounds(
+        self.certificate.clear();
+        let rows = load_bounds(
             ("l", "u"),
             p.l.as_slice(),
             p.u.as_slice(),
             inf,
             &mut self.lo,
             &mut self.hi,
-        )?;
-        load_bounds(
-            ("lx", "ux"),
-            p.lx.as_slice(),
-            p.ux.as_slice(),
-            inf,
-            &mut self.lx,
-            &mut self.ux,
-        )?;
+        );
+        let bounds = rows.and_then(|()| {
+            load_bounds(
+                ("lx", "ux"),
+                p.lx.as_slice(),
+                p.ux.as_slice(),
+                inf,
+                &mut self.lx,
+                &mut self.ux,
+            )
+            .map_err(|e| match e {
+                Bounds::Empty(i) => Bounds::EmptyBox(i),
+                other => other,
+            })
+        });
+        match bounds {
+            Ok(()) => {}
+            Err(Bounds::Error(e)) => return Err(e),
+            Err(Bounds::Empty(i)) => {
+                self.certificate
+                    .extend([ActiveConstraint::Lower(i), ActiveConstraint::Upper(i)]);
+                return Err(QpError::Infeasible);
+            }
+            Err(Bounds::EmptyBox(i)) => {
+                self.certificate.extend([
+                    ActiveConstraint::LowerBound(i),
+                    ActiveConstraint::UpperBound(i),
+                ]);
+                return Err(QpError::Infeasible);
+            }
+        }
         self.copies_ok = true;
         Ok((h_changed, a_changed, c_changed))
     }
@@ -1305,6 +1364,7 @@ impl ActiveSetSolver {
                 let t = t1.min(t2);
                 if t == f64::INFINITY {
                     self.iters = iter;
+                    self.certify_dependent::<F>(p);
                     return Err(QpError::Infeasible);
                 }
                 for k in qe..q {
@@ -1323,6 +1383,61 @@ impl ActiveSetSolver {
                 }
                 self.is_active[self.active[kdrop].id] = false;
                 self.drop_at::<F>(kdrop);
+            }
+        }
+    }
+
+    /// The constraint an active-set entry stands for.
+    fn constraint_of(&self, e: Entry) -> ActiveConstraint {
+        let (ne, ni) = (self.ne, self.ni);
+        if e.id < ne {
+            ActiveConstraint::Equality(e.id)
+        } else if e.id < ne + ni {
+            let i = e.id - ne;
+            if e.sign > 0.0 {
+                ActiveConstraint::Lower(i)
+            } else {
+                ActiveConstraint::Upper(i)
+            }
+        } else {
+            let i = e.id - ne - ni;
+            if e.sign > 0.0 {
+                ActiveConstraint::LowerBound(i)
+            } else {
+                ActiveConstraint::UpperBound(i)
+            }
+        }
+    }
+
+    /// Certificate of the main loop's proof: `p` cannot be satisfied because its normal is
+    /// the combination Σ r_k n_k of the active normals (r = R⁻¹ d₁, all of it) and no
+    /// inequality with r_k > 0 can be dropped. Lists p and the rows with r_k ≠ 0 (relative
+    /// to the largest, above 1e-12).
+    fn certify_dependent<const F: bool>(&mut self, p: Entry) {
+        let (n, q) = (self.n, self.active.len());
+        self.rv[..q].copy_from_slice(&self.d[..q]);
+        back_substitute::<F>(&self.rm, &self.rinv, n, q, &mut self.rv[..q]);
+        let largest = self.rv[..q].iter().fold(0.0f64, |m, r| m.max(r.abs()));
+        self.certificate.clear();
+        let first = self.constraint_of(p);
+        self.certificate.push(first);
+        for k in 0..q {
+            if self.rv[k].abs() > 1e-12 * largest {
+                let c = self.constraint_of(self.active[k]);
+                self.certificate.push(c);
+            }
+        }
+    }
+
+    /// Certificate of an inconsistent redundant equality `k`: it and the independent
+    /// equalities (the active ones), which it depends on.
+    fn certify_equality(&mut self, k: usize) {
+        self.certificate.clear();
+        self.certificate.push(ActiveConstraint::Equality(k));
+        for idx in 0..self.active.len() {
+            let e = self.active[idx];
+            if e.id < self.ne && e.id != k {
+                self.certificate.push(ActiveConstraint::Equality(e.id));
             }
         }
     }
@@ -1460,6 +1575,15 @@ fn copy_checked(what: &'static str, src: &[f64], dst: &mut [f64]) -> Result<bool
     Ok(diff != 0)
 }
 
+/// Why two-sided bounds could not be loaded.
+enum Bounds {
+    Error(QpError),
+    /// Row `i`'s interval is empty.
+    Empty(usize),
+    /// Variable `i`'s interval is empty.
+    EmptyBox(usize),
+}
+
 /// Copy two-sided bounds, mapping `|v| ≥ inf` to ±∞; NaN is an error, and an empty interval
 /// (`l > u`, `l = +∞` or `u = −∞`) makes the problem infeasible.
 fn load_bounds(
@@ -1469,7 +1593,7 @@ fn load_bounds(
     inf: f64,
     lo: &mut [f64],
     hi: &mut [f64],
-) -> Result<(), QpError> {
+) -> Result<(), Bounds> {
     for (index, (((&a, &b), lo), hi)) in l
         .iter()
         .zip(u)
@@ -1478,16 +1602,16 @@ fn load_bounds(
         .enumerate()
     {
         if a.is_nan() {
-            return Err(QpError::NonFinite {
+            return Err(Bounds::Error(QpError::NonFinite {
                 what: what.0,
                 index,
-            });
+            }));
         }
         if b.is_nan() {
-            return Err(QpError::NonFinite {
+            return Err(Bounds::Error(QpError::NonFinite {
                 what: what.1,
                 index,
-            });
+            }));
         }
         let a = if a <= -inf {
             f64::NEG_INFINITY
@@ -1504,7 +1628,7 @@ fn load_bounds(
             b
         };
         if a > b || a == f64::INFINITY || b == f64::NEG_INFINITY {
-            return Err(QpError::Infeasible);
+            return Err(Bounds::Empty(index));
         }
         *lo = a;
         *hi = b;

@@ -40,6 +40,10 @@ use crate::active_set::ActiveSetSolver;
 use crate::problem::{QpProblem, Settings};
 use crate::status::QpError;
 
+/// Least regularization of a level, relative to the largest diagonal entry of its Hessian
+/// (condition number at most 1e12, which the Cholesky factorization resolves).
+const RELATIVE_REGULARIZATION: f64 = 1e-12;
+
 /// One priority level: stacked equality and inequality task rows with per-row weights.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Level {
@@ -304,6 +308,11 @@ impl HierarchicalQp {
                     }
                 }
             }
+            // ε, but at least 1e-12 of the largest diagonal entry: with task rows and weights
+            // spanning orders of magnitude AᵀWA reaches 1e9 while some directions stay at 0,
+            // and an absolute ε below its rounding leaves H numerically singular.
+            let largest = (0..n).fold(0.0f64, |m, i| m.max(p.h[(i, i)]));
+            let eps = eps.max(RELATIVE_REGULARIZATION * largest);
             for i in 0..n {
                 p.h[(i, i)] += eps;
             }

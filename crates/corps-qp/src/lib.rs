@@ -58,6 +58,11 @@
 //!   a last attempt solves the proximal-point sequence on `H + ρI` (ρ = 1e-3 max Hᵢᵢ), whose
 //!   proofs stand and whose iterates converge to the original optimum
 //!   (`tests/degenerate_vertex.rs`: 1,000 such problems, all solved).
+//! - **Infeasibility certificate.** After `Infeasible`,
+//!   [`ActiveSetSolver::infeasibility_certificate`] lists constraints that alone admit no
+//!   point: the violated constraint with the active ones its normal combines, an empty
+//!   interval, or a redundant equality with those it contradicts (checked against Clarabel on
+//!   the restricted problem in `tests/random_vs_clarabel.rs`).
 //!
 //! ## Warm start
 //!

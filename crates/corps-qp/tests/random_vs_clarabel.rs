@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{clarabel_solve, cold_solver, kkt, random_feasible_qp, Reference};
+use common::{clarabel_solve, cold_solver, kkt, random_feasible_qp, restricted_to, Reference};
 use corps_qp::{QpError, QpProblem};
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
@@ -124,9 +124,11 @@ proptest! {
     }
 
     /// Infeasible: inconsistent equalities, a two-row inequality pair with disjoint ranges,
-    /// or variable bounds that contradict an equality. Both solvers must say so.
+    /// variable bounds that contradict an equality, a row that contradicts a positive
+    /// combination of three others, or an empty interval. Both solvers must say so, and the
+    /// certificate's constraints alone must be infeasible.
     #[test]
-    fn infeasible_qps_are_reported((seed, n, ne, ni, bounds) in sizes(), kind in 0usize..3) {
+    fn infeasible_qps_are_reported((seed, n, ne, ni, bounds) in sizes(), kind in 0usize..5) {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let n = n.max(2);
         let base = random_feasible_qp(&mut rng, n, ne, ni, bounds);
@@ -162,6 +164,38 @@ proptest! {
                 p.l[ni + 1] = 1.0;
                 p.u[ni + 1] = 2.0;
             }
+            3 => {
+                // l_k ≤ c_k x for three rows, and Σ w_k c_k x ≤ Σ w_k l_k − 1 (w > 0).
+                p = QpProblem::new(n, ne, ni + 4);
+                p.a.copy_from(&base.a);
+                p.b.copy_from(&base.b);
+                p.c.rows_mut(0, ni).copy_from(&base.c);
+                p.l.rows_mut(0, ni).copy_from(&base.l);
+                p.u.rows_mut(0, ni).copy_from(&base.u);
+                let mut sum = DMatrix::zeros(1, n);
+                let mut bound = -1.0;
+                for k in 0..3 {
+                    let c = DMatrix::from_fn(1, n, |_, _| rng.gen_range(-1.0..1.0));
+                    let (w, l) = (rng.gen_range(0.2..2.0), rng.gen_range(-1.0..1.0));
+                    p.c.set_row(ni + k, &c.row(0));
+                    p.l[ni + k] = l;
+                    p.u[ni + k] = f64::INFINITY;
+                    sum += c * w;
+                    bound += w * l;
+                }
+                p.c.set_row(ni + 3, &sum.row(0));
+                p.l[ni + 3] = f64::NEG_INFINITY;
+                p.u[ni + 3] = bound;
+            }
+            4 => {
+                // An empty interval: 2 ≤ c x ≤ 1.
+                p = base.clone();
+                if ni > 0 {
+                    (p.l[0], p.u[0]) = (2.0, 1.0);
+                } else {
+                    (p.lx[0], p.ux[0]) = (2.0, 1.0);
+                }
+            }
             _ => {
                 // x₀ + x₁ = 5 with 0 ≤ x₀, x₁ ≤ 1.
                 p = QpProblem::new(n, 1, 0);
@@ -176,10 +210,21 @@ proptest! {
         }
         p.h = base.h.clone();
         p.g = base.g.clone();
-        let ours = solve(&p);
+        let mut solver = cold_solver(&p);
+        let ours = solver.solve(&p).cloned();
         prop_assert_eq!(ours.err(), Some(QpError::Infeasible));
         let reference = clarabel_solve(&p);
         prop_assert!(matches!(reference, Reference::Infeasible), "Clarabel: {:?}", reference);
+        // The certificate's constraints alone admit no point (Clarabel decides).
+        let certificate = solver.infeasibility_certificate();
+        prop_assert!(!certificate.is_empty());
+        let alone = clarabel_solve(&restricted_to(&p, certificate));
+        prop_assert!(
+            matches!(alone, Reference::Infeasible),
+            "the certificate {:?} alone: Clarabel {:?}",
+            certificate,
+            alone
+        );
     }
 }
 

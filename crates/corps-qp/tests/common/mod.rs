@@ -377,3 +377,60 @@ pub fn sole_wrench(f: &[f64], points: &[[f64; 3]; 4]) -> [f64; 6] {
     }
     w
 }
+
+/// The problem restricted to the constraints of an infeasibility certificate: the same
+/// objective, the listed equality rows, each listed side of an inequality row (the other side
+/// open) and each listed side of a variable bound; every other constraint dropped.
+pub fn restricted_to(p: &QpProblem, certificate: &[corps_qp::ActiveConstraint]) -> QpProblem {
+    use corps_qp::ActiveConstraint::*;
+    let (n, _, _) = p.dims();
+    let eq: Vec<usize> = certificate
+        .iter()
+        .filter_map(|c| match c {
+            Equality(i) => Some(*i),
+            _ => None,
+        })
+        .collect();
+    let mut rows: Vec<usize> = certificate
+        .iter()
+        .filter_map(|c| match c {
+            Lower(i) | Upper(i) => Some(*i),
+            _ => None,
+        })
+        .collect();
+    rows.sort_unstable();
+    rows.dedup();
+    let mut r = QpProblem::new(n, eq.len(), rows.len());
+    r.h = p.h.clone();
+    r.g = p.g.clone();
+    for (k, &i) in eq.iter().enumerate() {
+        r.a.set_row(k, &p.a.row(i));
+        r.b[k] = p.b[i];
+    }
+    for (k, &i) in rows.iter().enumerate() {
+        r.c.set_row(k, &p.c.row(i));
+        r.l[k] = if certificate.contains(&Lower(i)) {
+            p.l[i]
+        } else {
+            f64::NEG_INFINITY
+        };
+        r.u[k] = if certificate.contains(&Upper(i)) {
+            p.u[i]
+        } else {
+            f64::INFINITY
+        };
+    }
+    for i in 0..n {
+        r.lx[i] = if certificate.contains(&LowerBound(i)) {
+            p.lx[i]
+        } else {
+            f64::NEG_INFINITY
+        };
+        r.ux[i] = if certificate.contains(&UpperBound(i)) {
+            p.ux[i]
+        } else {
+            f64::INFINITY
+        };
+    }
+    r
+}
