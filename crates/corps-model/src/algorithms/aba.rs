@@ -116,7 +116,7 @@ pub(crate) fn aba_pass<F>(
             continue; // always a root: solved directly in the forward pass
         }
         let k = j.idx_v;
-        let ia = data.bcrb[i];
+        let ia = &data.bcrb[i];
         let (u_vec, d_inv, u) = match j.kind {
             // A unit axis ±e_c (most URDF joints): U is a column of I^A and D one entry.
             JointKind::Revolute { axis } | JointKind::RevoluteUnbounded { axis }
@@ -129,7 +129,7 @@ pub(crate) fn aba_pass<F>(
             }
             _ => {
                 let s = local_subspace(j).to_vector();
-                let u_vec = m6v(&ia, &s);
+                let u_vec = m6v(ia, &s);
                 (
                     u_vec,
                     1.0 / s.dot(&u_vec),
@@ -145,15 +145,16 @@ pub(crate) fn aba_pass<F>(
             &u_vec.fixed_rows::<3>(0).into(),
             &u_vec.fixed_rows::<3>(3).into(),
         );
-        let mut ia_art = ia;
-        m6_rank1_sub(&mut ia_art, &u_vec, d_inv);
+        // I^a in place of I^A (U was read first).
+        m6_rank1_sub(&mut data.bcrb[i], &u_vec, d_inv);
         let c = data.a[i].to_vector();
-        let pa_art = data.pa[i].to_vector() + m6v(&ia_art, &c) + u_vec * (u * d_inv);
+        let pa_art = data.pa[i].to_vector() + m6v(&data.bcrb[i], &c) + u_vec * (u * d_inv);
         if let Some(parent) = j.parent {
-            let li = data.li_m_i[i];
+            let li = &data.li_m_i[i];
+            let (above, from_i) = data.bcrb.split_at_mut(i);
             m6_transformed_add(
-                &mut data.bcrb[parent],
-                &ia_art,
+                &mut above[parent],
+                &from_i[0],
                 &li.rotation,
                 &li.translation,
             );
