@@ -16,8 +16,12 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ContactParams {
-    /// Normal stiffness per contact area (N/m per m²). The default gives a TALOS sole
-    /// (0.21 × 0.13 m) about 1.1·10⁶ N/m: 0.4 mm sinking under the robot's weight.
+    /// Normal stiffness per contact area (N/m per m²). A flat face's stiffness is this times
+    /// the area its touching points stand for: for a box thinner than `point_spacing`, the
+    /// bottom face's points carry half the box's surface, `xy + z (x + y)`, because its side
+    /// faces are sampled only along the top and bottom edges. The default gives TALOS' sole
+    /// box (0.21 × 0.13 × 0.02 m) 4·10⁷ × 0.0341 = 1.364·10⁶ N/m per foot: 0.32 mm sinking
+    /// under the robot's weight on two feet (`tests/contact_stiffness.rs`).
     pub normal_stiffness: f64,
     /// Damping time constant (s): normal damping = stiffness × this.
     pub normal_damping_time: f64,
