@@ -128,6 +128,8 @@ pub struct ActiveSetSolver {
     /// [`ActiveSetSolver::infeasibility_certificate`]); the copy kept across the fallback.
     certificate: Vec<ActiveConstraint>,
     certificate_kept: Vec<ActiveConstraint>,
+    /// The optimality check's products: H x, Aᵀ y, Cᵀ z (n each), A x (n_eq), C x (n_in).
+    kkt_work: Vec<f64>,
 }
 
 impl ActiveSetSolver {
@@ -203,6 +205,7 @@ impl ActiveSetSolver {
             sol: Solution::new(0, 0, 0),
             certificate: Vec::new(),
             certificate_kept: Vec::new(),
+            kkt_work: Vec::new(),
         };
         s.resize(n, n_eq, n_in);
         s
@@ -268,6 +271,7 @@ impl ActiveSetSolver {
         // A certificate holds at most the active set and the violated row.
         self.certificate = Vec::with_capacity(n + 2);
         self.certificate_kept = Vec::with_capacity(n + 2);
+        self.kkt_work = zeros(3 * n + n_eq + n_in);
         self.copies_ok = false;
         self.reset();
     }
@@ -396,11 +400,26 @@ impl ActiveSetSolver {
             self.final_ok = false;
         }
         self.certificate.clear();
-        let result = match self.solve_both_ways::<F>() {
+        let mut inaccurate = false;
+        let first = match self.solve_both_ways::<F>() {
+            // An answer that misses the optimality conditions (the dual method on an
+            // ill-conditioned H can return one): solved again by the checked fallback.
+            Ok(()) if !self.meets_kkt::<F>(PROX_ACCEPT) => {
+                inaccurate = true;
+                self.certificate.clear();
+                Err(QpError::Infeasible)
+            }
+            r => r,
+        };
+        let result = match first {
             Err(QpError::Infeasible) => {
                 self.certificate_kept.clone_from(&self.certificate);
                 let result = self.solve_proximal::<F>();
                 if result == Err(QpError::Infeasible) && self.certificate.is_empty() {
+                    if inaccurate {
+                        // No proof, and the first answer missed the optimality conditions.
+                        return Err(QpError::Inaccurate);
+                    }
                     // The fallback's answer was refused: the original proof stands.
                     self.certificate.clone_from(&self.certificate_kept);
                 }
@@ -511,7 +530,7 @@ impl ActiveSetSolver {
         self.final_ok = false;
         self.prev.clear();
         if result.is_ok() {
-            if !converged || !self.meets_kkt(PROX_ACCEPT) {
+            if !converged || !self.meets_kkt::<F>(PROX_ACCEPT) {
                 // No better answer than the proof the fallback was called to check.
                 self.certificate.clear();
                 return Err(QpError::Infeasible);
@@ -530,42 +549,44 @@ impl ActiveSetSolver {
     /// Whether the solution meets the original problem's optimality conditions to `tol`,
     /// relative to the magnitude of the terms: stationarity `Hx + g + Aᵀy + Cᵀz + z_x`
     /// and the primal residuals of every row and bound. Allocation-free, O(n (n + m)).
-    fn meets_kkt(&self, tol: f64) -> bool {
+    fn meets_kkt<const F: bool>(&mut self, tol: f64) -> bool {
         let (n, ne, ni) = (self.n, self.ne, self.ni);
-        let sol = &self.sol;
-        let x = &sol.x;
-        let mut worst_dual = 0.0f64;
-        let mut scale_dual = 1.0f64;
-        for j in 0..n {
-            let mut terms = [0.0f64; 4];
-            for i in 0..n {
-                terms[0] += self.h[j * n + i] * x[i];
-            }
-            for k in 0..ne {
-                terms[1] += self.a[k + j * ne] * sol.y_eq[k];
-            }
-            for k in 0..ni {
-                terms[2] += self.c[k + j * ni] * sol.z_in[k];
-            }
-            terms[3] = sol.z_box[j];
-            let st = terms.iter().sum::<f64>() + self.g[j];
-            worst_dual = worst_dual.max(st.abs());
-            scale_dual = terms
-                .iter()
-                .fold(scale_dual, |m, t| m.max(1.0 + t.abs()))
-                .max(1.0 + self.g[j].abs());
+        let x = self.sol.x.as_slice();
+        // Stationarity terms H x, Aᵀ y, Cᵀ z (columns of the column-major copies).
+        let (hx, rest) = self.kkt_work.split_at_mut(n);
+        let (aty, rest) = rest.split_at_mut(n);
+        let (ctz, rest) = rest.split_at_mut(n);
+        let (ax, cx) = rest.split_at_mut(ne);
+        hx.fill(0.0);
+        gemv::<F>(1.0, &self.h, n, x, hx);
+        if ne > 0 {
+            gemv_t::<F>(&self.a, ne, self.sol.y_eq.as_slice(), aty, |_| ne);
+            ax.fill(0.0);
+            gemv::<F>(1.0, &self.a, ne, x, ax);
+        } else {
+            aty.fill(0.0);
         }
-        let mut worst_primal = 0.0f64;
-        let mut scale_primal = 1.0f64;
+        if ni > 0 {
+            gemv_t::<F>(&self.c, ni, self.sol.z_in.as_slice(), ctz, |_| ni);
+            cx[..ni].fill(0.0);
+            gemv::<F>(1.0, &self.c, ni, x, &mut cx[..ni]);
+        } else {
+            ctz.fill(0.0);
+        }
+        let (mut worst_dual, mut scale_dual) = (0.0f64, 1.0f64);
+        for j in 0..n {
+            let terms = [hx[j], aty[j], ctz[j], self.sol.z_box[j], self.g[j]];
+            worst_dual = worst_dual.max(terms.iter().sum::<f64>().abs());
+            scale_dual = terms.iter().fold(scale_dual, |m, t| m.max(1.0 + t.abs()));
+        }
+        let (mut worst_primal, mut scale_primal) = (0.0f64, 1.0f64);
         for k in 0..ne {
-            let ax: f64 = (0..n).map(|j| self.a[k + j * ne] * x[j]).sum();
-            worst_primal = worst_primal.max((ax - self.b[k]).abs());
-            scale_primal = scale_primal.max(1.0 + ax.abs());
+            worst_primal = worst_primal.max((ax[k] - self.b[k]).abs());
+            scale_primal = scale_primal.max(1.0 + ax[k].abs());
         }
         for k in 0..ni {
-            let cx: f64 = (0..n).map(|j| self.c[k + j * ni] * x[j]).sum();
-            worst_primal = worst_primal.max(self.lo[k] - cx).max(cx - self.hi[k]);
-            scale_primal = scale_primal.max(1.0 + cx.abs());
+            worst_primal = worst_primal.max(self.lo[k] - cx[k]).max(cx[k] - self.hi[k]);
+            scale_primal = scale_primal.max(1.0 + cx[k].abs());
         }
         for j in 0..n {
             worst_primal = worst_primal.max(self.lx[j] - x[j]).max(x[j] - self.ux[j]);

@@ -58,6 +58,11 @@
 //!   a last attempt solves the proximal-point sequence on `H + ρI` (ρ = 1e-3 max Hᵢᵢ), whose
 //!   proofs stand and whose iterates converge to the original optimum
 //!   (`tests/degenerate_vertex.rs`: 1,000 such problems, all solved).
+//! - **Checked answers.** Every answer is checked against the optimality conditions
+//!   (stationarity and primal residuals, 1e-6 relative to the magnitude of their terms); one
+//!   that misses them (the dual method on a Hessian with cond ~1e12 can return one) goes to
+//!   the proximal fallback, and if that produces none that meets them the solve ends
+//!   [`QpError::Inaccurate`]: no answer rather than a wrong one.
 //! - **Infeasibility certificate.** After `Infeasible`,
 //!   [`ActiveSetSolver::infeasibility_certificate`] lists constraints that alone admit no
 //!   point: the violated constraint with the active ones its normal combines, an empty

@@ -44,6 +44,12 @@ pub enum QpError {
         /// The limit that was hit.
         max_iter: usize,
     },
+    /// The answer missed the optimality conditions by more than 1e-6 relative to the
+    /// magnitude of their terms (the dual method on a Hessian with cond ~1e12 can produce
+    /// one), and the proximal fallback did not produce one that meets them: no answer is
+    /// returned rather than a wrong one.
+    #[error("no answer meets the optimality conditions (ill-conditioned problem)")]
+    Inaccurate,
 }
 
 /// Compact outcome of the last solve, convenient for a control loop's fallback logic.
@@ -57,6 +63,8 @@ pub enum QpStatus {
     Infeasible,
     /// The iteration limit was reached.
     IterationLimit,
+    /// No answer met the optimality conditions.
+    Inaccurate,
     /// The Hessian is not positive definite.
     NotPositiveDefinite,
     /// Bad input: dimension mismatch or NaN/Inf.
@@ -71,6 +79,7 @@ impl QpError {
             QpError::NotPositiveDefinite { .. } => QpStatus::NotPositiveDefinite,
             QpError::Infeasible => QpStatus::Infeasible,
             QpError::IterationLimit { .. } => QpStatus::IterationLimit,
+            QpError::Inaccurate => QpStatus::Inaccurate,
         }
     }
 }
