@@ -580,16 +580,16 @@ impl ActiveSetSolver {
             scale_dual = terms.iter().fold(scale_dual, |m, t| m.max(1.0 + t.abs()));
         }
         let (mut worst_primal, mut scale_primal) = (0.0f64, 1.0f64);
-        for k in 0..ne {
-            worst_primal = worst_primal.max((ax[k] - self.b[k]).abs());
-            scale_primal = scale_primal.max(1.0 + ax[k].abs());
+        for (ax, b) in ax.iter().zip(&self.b) {
+            worst_primal = worst_primal.max((ax - b).abs());
+            scale_primal = scale_primal.max(1.0 + ax.abs());
         }
-        for k in 0..ni {
-            worst_primal = worst_primal.max(self.lo[k] - cx[k]).max(cx[k] - self.hi[k]);
-            scale_primal = scale_primal.max(1.0 + cx[k].abs());
+        for ((cx, lo), hi) in cx[..ni].iter().zip(&self.lo).zip(&self.hi) {
+            worst_primal = worst_primal.max(lo - cx).max(cx - hi);
+            scale_primal = scale_primal.max(1.0 + cx.abs());
         }
-        for j in 0..n {
-            worst_primal = worst_primal.max(self.lx[j] - x[j]).max(x[j] - self.ux[j]);
+        for ((x, lx), ux) in x.iter().zip(&self.lx).zip(&self.ux) {
+            worst_primal = worst_primal.max(lx - x).max(x - ux);
         }
         worst_dual <= tol * scale_dual && worst_primal <= tol * scale_primal
     }
