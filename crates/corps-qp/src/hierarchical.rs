@@ -182,6 +182,8 @@ pub struct HierarchicalQp {
     in_lo: Vec<DVector<f64>>,
     in_hi: Vec<DVector<f64>>,
     x: DVector<f64>,
+    /// One weighted task row `w a_r` (n), for the Hessian's rank-one updates.
+    weighted_row: Vec<f64>,
 }
 
 impl HierarchicalQp {
@@ -213,6 +215,7 @@ impl HierarchicalQp {
             solvers,
             problems,
             x: DVector::zeros(n),
+            weighted_row: vec![0.0; n],
         }
     }
 
@@ -295,16 +298,23 @@ impl HierarchicalQp {
             // Cost: ½‖A x − b‖²_W + ½ ε‖x‖² + ½‖v‖²_W.
             p.h.fill(0.0);
             p.g.fill(0.0);
+            let ld = p.h.nrows();
             for r in 0..lv.n_eq() {
                 let w = lv.eq_weights[r];
+                // H[.., j] += (w a_r) a_rj over contiguous columns of H.
+                for (i, wa) in self.weighted_row.iter_mut().enumerate() {
+                    *wa = w * lv.a[(r, i)];
+                }
+                let h = p.h.as_mut_slice();
                 for j in 0..n {
                     let arj = lv.a[(r, j)];
                     if arj == 0.0 {
                         continue;
                     }
                     p.g[j] -= w * arj * lv.b[r];
-                    for i in 0..n {
-                        p.h[(i, j)] += w * lv.a[(r, i)] * arj;
+                    let column = &mut h[j * ld..j * ld + n];
+                    for (hij, wa) in column.iter_mut().zip(&self.weighted_row) {
+                        *hij += wa * arj;
                     }
                 }
             }
