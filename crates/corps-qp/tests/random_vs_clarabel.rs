@@ -14,6 +14,19 @@ fn solve(p: &QpProblem) -> Result<corps_qp::Solution, QpError> {
     cold_solver(p).solve(p).cloned()
 }
 
+/// `base`'s equalities and inequality rows, and `extra` more inequality rows to fill (the
+/// variable bounds left open).
+fn with_more_inequalities(base: &QpProblem, extra: usize) -> QpProblem {
+    let (n, ne, ni) = base.dims();
+    let mut p = QpProblem::new(n, ne, ni + extra);
+    p.a.copy_from(&base.a);
+    p.b.copy_from(&base.b);
+    p.c.rows_mut(0, ni).copy_from(&base.c);
+    p.l.rows_mut(0, ni).copy_from(&base.l);
+    p.u.rows_mut(0, ni).copy_from(&base.u);
+    p
+}
+
 /// Solve with corps-qp and Clarabel; require x and the objective to agree to 1e-6 and the
 /// KKT residuals of corps-qp's solution to be ≤ `kkt_tol`.
 fn check_against_clarabel(p: &QpProblem, kkt_tol: f64) -> Result<(), TestCaseError> {
@@ -151,12 +164,7 @@ proptest! {
             }
             1 => {
                 // 1 ≤ a x ≤ 2 and 1 ≤ −a x ≤ 2.
-                p = QpProblem::new(n, ne, ni + 2);
-                p.a.copy_from(&base.a);
-                p.b.copy_from(&base.b);
-                p.c.rows_mut(0, ni).copy_from(&base.c);
-                p.l.rows_mut(0, ni).copy_from(&base.l);
-                p.u.rows_mut(0, ni).copy_from(&base.u);
+                p = with_more_inequalities(&base, 2);
                 p.c.set_row(ni, &row.row(0));
                 p.c.set_row(ni + 1, &(-&row).row(0));
                 p.l[ni] = 1.0;
@@ -166,12 +174,7 @@ proptest! {
             }
             3 => {
                 // l_k ≤ c_k x for three rows, and Σ w_k c_k x ≤ Σ w_k l_k − 1 (w > 0).
-                p = QpProblem::new(n, ne, ni + 4);
-                p.a.copy_from(&base.a);
-                p.b.copy_from(&base.b);
-                p.c.rows_mut(0, ni).copy_from(&base.c);
-                p.l.rows_mut(0, ni).copy_from(&base.l);
-                p.u.rows_mut(0, ni).copy_from(&base.u);
+                p = with_more_inequalities(&base, 4);
                 let mut sum = DMatrix::zeros(1, n);
                 let mut bound = -1.0;
                 for k in 0..3 {
