@@ -31,7 +31,10 @@
 //! the rounding until the dual active-set method proves "infeasibility" from it (the TALOS IK
 //! of `tests/degenerate_vertex.rs`). With width δ the set has an interior at the scale of the
 //! solver's own tolerance, and either side of a held row can be added and dropped like any
-//! inequality.
+//! inequality. A level reported infeasible all the same (it is feasible by construction: the
+//! previous level's x meets every held row and bound) is solved once more with the held
+//! equalities 1,000 times wider, which keeps the upper levels to 1e-6 (1 + |target|) for that
+//! solve (`tests/hierarchical_vs_clarabel.rs`: 3 of 300 degenerate hierarchies needed it).
 
 use nalgebra::{DMatrix, DVector};
 use thiserror::Error;
@@ -39,6 +42,10 @@ use thiserror::Error;
 use crate::active_set::ActiveSetSolver;
 use crate::problem::{QpProblem, Settings};
 use crate::status::QpError;
+
+/// How much wider the held equalities are when a level, feasible by construction, was
+/// reported infeasible (see `HierarchicalQp::solve`).
+const RETRY_WIDTH: f64 = 1e3;
 
 /// Least regularization of a level, relative to the largest diagonal entry of its Hessian
 /// (condition number at most 1e12, which the Cholesky factorization resolves).
@@ -353,6 +360,7 @@ impl HierarchicalQp {
                 }
             }
             let tol = self.solvers[k].settings().primal_tol;
+            let held_eq = row;
             for j in 0..k {
                 let up = &self.levels[j];
                 for r in 0..up.n_eq() {
@@ -368,9 +376,24 @@ impl HierarchicalQp {
             }
             p.lx.rows_mut(0, n).copy_from(&self.lx);
             p.ux.rows_mut(0, n).copy_from(&self.ux);
-            let sol = self.solvers[k]
-                .solve(p)
-                .map_err(|source| HqpError::Level { level: k, source })?;
+            // The level is feasible by construction (x_{k−1} meets every held row and bound),
+            // so a proof of infeasibility is spurious: at a degenerate vertex the held rows'
+            // width δ can be below what the vertex's conditioning resolves. Tried once more
+            // with the held equalities RETRY_WIDTH times wider (the upper levels then kept to
+            // that width for this solve).
+            let solver = &mut self.solvers[k];
+            if solver.solve(p) == Err(QpError::Infeasible) {
+                for r in held_eq..row {
+                    let (mid, half) = (0.5 * (p.l[r] + p.u[r]), 0.5 * (p.u[r] - p.l[r]));
+                    (p.l[r], p.u[r]) = (mid - RETRY_WIDTH * half, mid + RETRY_WIDTH * half);
+                }
+            }
+            let sol = match solver.status() {
+                crate::QpStatus::Optimal => solver.solution(),
+                _ => solver
+                    .solve(p)
+                    .map_err(|source| HqpError::Level { level: k, source })?,
+            };
             // Keep x inside the hard bounds: the QP solution may leave them by up to the
             // solver's primal tolerance, and the levels below hold their targets at this x. At
             // a degenerate vertex (upper levels saturating many bounds, so that the held rows
