@@ -399,7 +399,7 @@ impl ActiveSetSolver {
         if c_changed {
             self.final_ok = false;
         }
-        self.certificate.clear();
+        // `load` left the certificate empty.
         let mut inaccurate = false;
         let first = match self.solve_both_ways::<F>() {
             // An answer that misses the optimality conditions (the dual method on an

@@ -382,18 +382,19 @@ impl HierarchicalQp {
             // with the held equalities RETRY_WIDTH times wider (the upper levels then kept to
             // that width for this solve).
             let solver = &mut self.solvers[k];
-            if solver.solve(p) == Err(QpError::Infeasible) {
-                for r in held_eq..row {
-                    let (mid, half) = (0.5 * (p.l[r] + p.u[r]), 0.5 * (p.u[r] - p.l[r]));
-                    (p.l[r], p.u[r]) = (mid - RETRY_WIDTH * half, mid + RETRY_WIDTH * half);
+            let level_error = |source| HqpError::Level { level: k, source };
+            match solver.solve(p).map(|_| ()) {
+                Ok(()) => {}
+                Err(QpError::Infeasible) => {
+                    for r in held_eq..row {
+                        let (mid, half) = (0.5 * (p.l[r] + p.u[r]), 0.5 * (p.u[r] - p.l[r]));
+                        (p.l[r], p.u[r]) = (mid - RETRY_WIDTH * half, mid + RETRY_WIDTH * half);
+                    }
+                    solver.solve(p).map_err(level_error)?;
                 }
+                Err(e) => return Err(level_error(e)),
             }
-            let sol = match solver.status() {
-                crate::QpStatus::Optimal => solver.solution(),
-                _ => solver
-                    .solve(p)
-                    .map_err(|source| HqpError::Level { level: k, source })?,
-            };
+            let sol = solver.solution();
             // Keep x inside the hard bounds: the QP solution may leave them by up to the
             // solver's primal tolerance, and the levels below hold their targets at this x. At
             // a degenerate vertex (upper levels saturating many bounds, so that the held rows

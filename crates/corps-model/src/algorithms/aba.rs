@@ -87,7 +87,7 @@ pub(crate) fn aba_pass<F>(
     // Forward: placements, twists, bias accelerations and forces, body inertias (local).
     for (i, j) in model.joints.iter().enumerate() {
         place_joint(j, i, data, q, false);
-        let vj = local_twist(j, v);
+        let vj = j.kind.motion(&v[j.idx_v..]);
         let vi = match j.parent {
             Some(parent) => data.li_m_i[i].act_inv_motion(&data.v[parent]) + vj,
             None => vj,
@@ -117,18 +117,15 @@ pub(crate) fn aba_pass<F>(
         }
         let k = j.idx_v;
         let ia = &data.bcrb[i];
-        let (u_vec, d_inv, u) = match j.kind {
+        let (u_vec, d_inv, u) = match revolute_unit_axis(j) {
             // A unit axis ±e_c (most URDF joints): U is a column of I^A and D one entry.
-            JointKind::Revolute { axis } | JointKind::RevoluteUnbounded { axis }
-                if unit_axis(&axis).is_some() =>
-            {
-                let (c, sign) = unit_axis(&axis).unwrap_or((0, 1.0));
+            Some((c, sign)) => {
                 let u_vec: Vector6<f64> = ia.column(3 + c) * sign;
                 let u = tau[k] - sign * data.pa[i].angular[c];
                 (u_vec, 1.0 / ia[(3 + c, 3 + c)], u)
             }
-            _ => {
-                let s = local_subspace(j).to_vector();
+            None => {
+                let s = subspace(j).to_vector();
                 let u_vec = m6v(ia, &s);
                 (
                     u_vec,
@@ -189,7 +186,7 @@ pub(crate) fn aba_pass<F>(
                 let u_vec = crate::data::col_force(&data.f_cols, k);
                 let ddq = data.d_inv[k] * (data.u[k] - a.dot(&u_vec));
                 data.ddq[k] = ddq;
-                data.a[i] = a + local_subspace(j) * ddq;
+                data.a[i] = a + subspace(j) * ddq;
             }
         }
         if external.is_some() {
@@ -198,23 +195,17 @@ pub(crate) fn aba_pass<F>(
     }
 }
 
-/// Unit motion of a one-dof joint in its own frame: `[0; a]` (revolute), `[a; 0]` (prismatic).
+/// S of a one-dof joint in its own frame (never asked of the root free-flyer, solved apart).
 #[inline(always)]
-fn local_subspace(j: &Joint) -> Motion {
-    match j.kind {
-        JointKind::Revolute { axis } | JointKind::RevoluteUnbounded { axis } => {
-            Motion::new(Vector3::zeros(), axis)
-        }
-        JointKind::Prismatic { axis } => Motion::new(axis, Vector3::zeros()),
-        JointKind::FreeFlyer => Motion::zero(),
-    }
+fn subspace(j: &Joint) -> Motion {
+    j.kind.axis_motion().unwrap_or_default()
 }
 
-/// The joint's twist `S q̇` in its own frame.
+/// `(c, ±1)` for a revolute joint about ±e_c.
 #[inline(always)]
-fn local_twist(j: &Joint, v: &[f64]) -> Motion {
+fn revolute_unit_axis(j: &Joint) -> Option<(usize, f64)> {
     match j.kind {
-        JointKind::FreeFlyer => Motion::from_slice(&v[j.idx_v..j.idx_v + 6]),
-        _ => local_subspace(j) * v[j.idx_v],
+        JointKind::Revolute { axis } | JointKind::RevoluteUnbounded { axis } => unit_axis(&axis),
+        _ => None,
     }
 }

@@ -67,9 +67,9 @@ pub fn compute_minverse<'d>(
                     *fr += ur * x;
                 }
             }
-            let mut ia = data.bcrb[i];
-            m6_rank1_sub(&mut ia, &u_vec, d_inv);
-            m6_add_assign(&mut data.bcrb[parent], &ia);
+            m6_rank1_sub(&mut data.bcrb[i], &u_vec, d_inv);
+            let (above, from_i) = data.bcrb.split_at_mut(i);
+            m6_add_assign(&mut above[parent], &from_i[0]);
         }
     }
     // Forward: the ancestors' part of each row, and each joint's accelerations A_i.

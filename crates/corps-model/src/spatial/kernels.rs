@@ -112,10 +112,12 @@ pub fn m6_transformed_add(
         };
         let b2 = Matrix3::from_fn(|i, j| b[(i, j)] - row_cross(&a, i)[j]);
         let bt = b.transpose();
-        c = Matrix3::from_fn(|i, j| {
-            let pb = p.cross(&b2.column(j).into_owned());
-            c[(i, j)] - row_cross(&bt, i)[j] + pb[i]
-        });
+        let pb2 = Matrix3::from_columns(&[
+            p.cross(&b2.column(0)),
+            p.cross(&b2.column(1)),
+            p.cross(&b2.column(2)),
+        ]);
+        c = Matrix3::from_fn(|i, j| c[(i, j)] - row_cross(&bt, i)[j] + pb2[(i, j)]);
         b = b2;
     }
     let yc = &mut y.data.0;
