@@ -9,7 +9,7 @@ out=$(mktemp -d)
 {
   echo "# Results: corps runs beside the documents"
   echo
-  echo "Every scenario of \`scenarios/control/\` and \`scenarios/walk/\`, run by"
+  echo "Every scenario of \`scenarios/control/\`, \`scenarios/walk/\` and \`scenarios/passive/\`, run by"
   echo "\`bash tools/results/run_all.sh\` ($(date -u +%Y-%m-%d), commit $(git rev-parse --short HEAD))."
   echo "Errors in mm (average / standard deviation / peak per axis); where a scenario carries the"
   echo "documents' figures they stand in the right-hand columns. Controller times are wall-clock"
@@ -24,7 +24,7 @@ out=$(mktemp -d)
   echo "(\`--estimator ground-truth\`), and on the real TALOS' sensor noise"
   echo "(\`scenarios/sensors/talos_hardware.toml\`: encoder and joint-velocity levels from seed 000's"
   echo "19-bit encoders; IMU and F/T levels assumed, as that file says)."
-  for f in scenarios/walk/*.toml scenarios/control/*.toml; do
+  for f in scenarios/walk/*.toml scenarios/control/*.toml scenarios/passive/*.toml; do
     name=$(basename "$f" .toml)
     echo
     echo "## $name"
@@ -57,7 +57,7 @@ out=$(mktemp -d)
   echo 'Every figure above where corps, with its estimator, is worse than the document'"'"'s (the'
   echo '`short of the thesis` lines), then the measured causes (`tools/results/shortfall_causes.md`).'
   echo
-  for f in scenarios/walk/*.toml scenarios/control/*.toml; do
+  for f in scenarios/walk/*.toml scenarios/control/*.toml scenarios/passive/*.toml; do
     name=$(basename "$f" .toml)
     grep "short of the thesis" "$out/$name/metrics.txt" 2>/dev/null | sed "s/^  short of the thesis: /- $name: /" || true
     if ! grep -q '^expect = ' "$f"; then
@@ -69,7 +69,7 @@ out=$(mktemp -d)
   figure() { sed -n "s/^  short of the thesis: \(.*\) [-0-9.]*\( mm\)\{0,1\} (thesis .*/\1/p" "$1" | sort; }
   echo "Further, on TALOS' sensor noise only (the \`talos_hardware.toml\` runs):"
   echo
-  for f in scenarios/walk/*.toml scenarios/control/*.toml; do
+  for f in scenarios/walk/*.toml scenarios/control/*.toml scenarios/passive/*.toml; do
     name=$(basename "$f" .toml)
     [ -f "$out/$name.noise/metrics.txt" ] || continue
     # The figures short with the noise and not without it (matched by name, not value).
@@ -84,6 +84,8 @@ out=$(mktemp -d)
   done
   echo
   cat tools/results/shortfall_causes.md
+  cat tools/results/passive.md
+  python3 tools/results/passive_robustness.py --corps ./target/release/corps
   cat tools/results/bad_input.md
 } > RESULTS.md.partial
 mv RESULTS.md.partial RESULTS.md

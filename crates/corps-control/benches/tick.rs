@@ -3,12 +3,18 @@
 //! (62 variables, 18 equalities, 66 inequalities), cycling over the 25 states TSID recorded.
 //! Split as TSID's harness splits it: problem data (model terms), QP assembly, QP solve, and the
 //! whole tick. Run: `cargo bench -p corps-control --bench tick`; TSID side:
-//! `bash tools/bench/run_tsid_bench.sh`.
+//! `bash tools/bench/run_tsid_bench.sh`. `passive_tick` is the whole tick under the energy
+//! tank (seed 000 ch. 5: stage 1's stacked task energy and valves, the scaled references and
+//! the passivity row), beside `plain_tick`, the same tick without it, through the same
+//! torque-tick path.
 
 #[path = "../tests/common/tsid.rs"]
 mod tsid;
+use corps_control::formulation::PassiveInverseDynamics;
+use corps_control::passivity::{EnergyTank, TankParams};
 use corps_control::RobotState;
 use criterion::{criterion_group, criterion_main, Criterion};
+use nalgebra::DVector;
 use std::hint::black_box;
 use tsid::*;
 
@@ -40,6 +46,26 @@ fn bench(c: &mut Criterion) {
                 .update(&model, &states[k].0, &states[k].1)
                 .expect("state");
             black_box(id.compute(&model, &state).map(|o| o.tau[0])).expect("tick")
+        })
+    });
+    let na = model.nv - 6;
+    let mut tau = DVector::zeros(na);
+    let mut plain = id;
+    g.bench_function("plain_tick", |b| {
+        b.iter(|| {
+            k = (k + 1) % states.len();
+            let (q, v) = &states[k];
+            black_box(plain.tick(&model, &mut state, 0.0, q, v, 5.0, &mut tau))
+        })
+    });
+    let (_, mut id, _) = anchor_problem();
+    let tank = EnergyTank::new(TankParams::default(), 3.0).expect("tank");
+    let mut passive = PassiveInverseDynamics::new(&model, tank, 1e-3).expect("passive");
+    g.bench_function("passive_tick", |b| {
+        b.iter(|| {
+            k = (k + 1) % states.len();
+            let (q, v) = &states[k];
+            black_box(passive.tick(&mut id, &model, &mut state, 0.0, q, v, 5.0, &mut tau))
         })
     });
     g.finish();

@@ -27,6 +27,8 @@ pub const EMBEDDED: &[(&str, &str)] = embed!(
     "robots/talos_data/srdf/talos.srdf",
     "config/talos/tsid_torque.toml",
     "config/talos/tsid_torque_walk.toml",
+    "config/talos/passive_torque.toml",
+    "config/talos/passive_torque_walk.toml",
     "config/talos/tsid_position.toml",
     "config/talos/ik_position.toml",
     "config/talos/walk_mpc.toml",

@@ -9,11 +9,12 @@ pub enum ScenarioError {
     /// Bad input: the message names the key and what is wrong with it.
     #[error("{0}")]
     Invalid(String),
-    /// `source`, arising while doing `context`.
-    #[error("{context}: {source}")]
+    /// `error`, arising while doing `context`. Its message holds the whole chain, so `error`
+    /// is not also reported as a source (a printer of sources would repeat it).
+    #[error("{context}: {error}")]
     Context {
         context: String,
-        source: Box<ScenarioError>,
+        error: Box<ScenarioError>,
     },
     /// The run was interrupted before its controller took over (`t` = 0 s of control).
     #[error("interrupted at t = {t:.3} s")]
@@ -50,7 +51,7 @@ impl ScenarioError {
     pub fn interrupted_at(&self) -> Option<f64> {
         match self {
             ScenarioError::Interrupted { t } => Some(*t),
-            ScenarioError::Context { source, .. } => source.interrupted_at(),
+            ScenarioError::Context { error, .. } => error.interrupted_at(),
             _ => None,
         }
     }
@@ -69,13 +70,13 @@ impl<T, E: Into<ScenarioError>> Context<T> for std::result::Result<T, E> {
     fn context(self, context: impl std::fmt::Display) -> Result<T> {
         self.map_err(|e| ScenarioError::Context {
             context: context.to_string(),
-            source: Box::new(e.into()),
+            error: Box::new(e.into()),
         })
     }
     fn with_context<D: std::fmt::Display>(self, context: impl FnOnce() -> D) -> Result<T> {
         self.map_err(|e| ScenarioError::Context {
             context: context().to_string(),
-            source: Box::new(e.into()),
+            error: Box::new(e.into()),
         })
     }
 }

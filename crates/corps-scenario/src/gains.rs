@@ -155,6 +155,78 @@ pub struct TsidGains {
     pub safe_damping: f64,
     /// The balance stabilizer in front of a position-mode controller; absent: none.
     pub stabilizer: Option<StabilizerGains>,
+    /// The global energy tank of the passive controller (`passive_torque`); absent: none.
+    pub tank: Option<TankGains>,
+}
+
+/// `[tank]`: the passive controller's energy tank (seed 000 L6396–L6401: E_max 5 J, E_min
+/// 0.1 J, P_low −0.5 W; the tank starts at 3 J in the force scenario, 5 J in the walk).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TankGains {
+    #[serde(default = "e_max")]
+    pub e_max: f64,
+    #[serde(default = "e_min")]
+    pub e_min: f64,
+    #[serde(default = "p_low")]
+    pub p_low: f64,
+    /// Energy at the handover (J).
+    pub initial: f64,
+    /// Widths of the valves' smoothing bands (J, W); default 0.1 each.
+    #[serde(default = "band")]
+    pub energy_width: f64,
+    #[serde(default = "band")]
+    pub power_width: f64,
+    /// The left inverse of the stacked task Jacobian in Λ: `unweighted` (seed 000 Eq 5.9, the
+    /// default) or `weighted` by the tasks' weights in the QP.
+    #[serde(default)]
+    pub left_inverse: LeftInverseName,
+}
+
+/// `[tank] left_inverse`.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum LeftInverseName {
+    #[default]
+    Unweighted,
+    Weighted,
+}
+
+impl From<LeftInverseName> for corps_control::formulation::LeftInverse {
+    fn from(n: LeftInverseName) -> Self {
+        match n {
+            LeftInverseName::Unweighted => Self::Unweighted,
+            LeftInverseName::Weighted => Self::Weighted,
+        }
+    }
+}
+
+fn e_max() -> f64 {
+    5.0
+}
+fn e_min() -> f64 {
+    0.1
+}
+fn p_low() -> f64 {
+    -0.5
+}
+fn band() -> f64 {
+    0.1
+}
+
+impl TankGains {
+    /// The tank, or a clear error (E_min ≥ E_max, P_low > 0, a negative energy...).
+    pub fn tank(&self) -> Result<corps_control::passivity::EnergyTank> {
+        let params = corps_control::passivity::TankParams {
+            e_max: self.e_max,
+            e_min: self.e_min,
+            p_low: self.p_low,
+            energy_width: self.energy_width,
+            power_width: self.power_width,
+        };
+        corps_control::passivity::EnergyTank::new(params, self.initial)
+            .map_err(|e| invalid!("tank: {e}"))
+    }
 }
 
 /// The inverse-kinematics controller: task gains (1/s) of seed 000 Table 4.1's stack.
@@ -242,6 +314,9 @@ impl TsidGains {
         check_non_negative("safe_damping", self.safe_damping)?;
         if let Some(s) = &self.stabilizer {
             s.check()?;
+        }
+        if let Some(t) = &self.tank {
+            t.tank()?;
         }
         if !(c.mu > 0.0 && c.mu.is_finite()) {
             bail!("contacts.mu = {}: must be positive", c.mu);
@@ -355,6 +430,25 @@ mod tests {
         t.contacts.fmax = 1000.0;
         t.com.kp = f64::NAN;
         assert!(t.check().unwrap_err().to_string().contains("com.kp"));
+    }
+
+    #[test]
+    fn the_passive_gains_parse_and_a_bad_tank_is_refused() {
+        for name in ["passive_torque", "passive_torque_walk"] {
+            let t: TsidGains = load(&talos(name), &toml::Table::new()).unwrap();
+            t.check().unwrap();
+            assert!(t.tank.is_some());
+        }
+        for (set, says) in [
+            ("tank.e_min = 6.0", "E_min"),
+            ("tank.p_low = 0.5", "P_low"),
+            ("tank.initial = -1.0", "initial energy"),
+        ] {
+            let set: toml::Table = set.parse().unwrap();
+            let t: TsidGains = load(&talos("passive_torque"), &set).unwrap();
+            let e = t.check().unwrap_err().to_string();
+            assert!(e.contains(says), "{e}");
+        }
     }
 
     #[test]

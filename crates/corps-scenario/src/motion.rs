@@ -30,6 +30,9 @@ pub enum MotionSection {
     },
     /// CoM down by `depth` (m) in `duration` s and back up in `duration` s (min-jerk each).
     Squat { depth: f64, duration: f64 },
+    /// The CoM reference jumps by `offset` (m, world) at `at` s and holds there: a reference
+    /// step, no derivative (seed 000 ch. 5's robustness case, the thesis's "10 cm on the CoM").
+    ComStep { offset: [f64; 3], at: f64 },
     /// Shift the CoM over the `support` foot in `shift` s, release the other foot's contact
     /// (its force ramps to zero over the controller's contact transition), then lift it by
     /// `lift` m in `lift_duration` s, `release` s after the shift, and hold.
@@ -97,6 +100,15 @@ impl MotionSection {
                     return Err("motion.depth: must be finite".into());
                 }
                 positive("duration", *duration)
+            }
+            MotionSection::ComStep { offset, at } => {
+                if offset.iter().any(|a| !a.is_finite()) {
+                    return Err("motion.offset: must be finite".into());
+                }
+                if !(*at >= 0.0 && at.is_finite()) {
+                    return Err("motion.at: must be a time ≥ 0 s".into());
+                }
+                Ok(())
             }
             MotionSection::OneFoot {
                 shift,
@@ -220,6 +232,15 @@ impl MotionPlan {
                         acc: r.acc,
                     };
                 }
+            }
+            MotionSection::ComStep { offset, at } => {
+                let mut pos = c0.clone();
+                if t >= *at {
+                    for k in 0..3 {
+                        pos[k] += offset[k];
+                    }
+                }
+                out.com = Reference::constant(pos);
             }
             MotionSection::ComSinusoid {
                 amplitude,

@@ -27,6 +27,10 @@ use nalgebra::DVector;
 /// TSID's `DEFAULT_HESSIAN_REGULARIZATION`.
 pub const HESSIAN_REGULARIZATION: f64 = 1e-8;
 
+/// Slack of the passivity row (W): at rest (q̇_j = 0) the row reads `0 ≤ −Ḣ`, which rounding
+/// of Ḣ ≈ 0 must not make infeasible.
+pub const PASSIVITY_SLACK: f64 = 1e-9;
+
 /// The controller's answer at one tick.
 #[derive(Clone, Debug, PartialEq)]
 pub struct IdOutput {
@@ -65,6 +69,14 @@ pub struct InverseDynamics {
     pub joint_bounds: Option<JointBoundsTask>,
     /// Contact-force tasks in the cost, with weights (each names its contact).
     pub contact_forces: Vec<(ContactForceTask, f64)>,
+    /// Scale of every motion task's right side, contact motion rows included, and of the
+    /// force tasks' wanted wrenches (βγ of an energy tank; 1 otherwise).
+    pub reference_scale: f64,
+    /// `Some(Ḣ)`: the passivity row `Ḣ ≤ −q̇_jᵀτ + PASSIVITY_SLACK` (W).
+    pub passivity: Option<f64>,
+    /// Set when the tasks and contacts were computed at this tick's state already (the energy
+    /// tank's stage 1 does): the next `build` reads their rows instead; it clears the flag.
+    pub(crate) rows_current: bool,
     first: usize,
     pub problem: QpProblem,
     solver: ActiveSetSolver,
@@ -84,6 +96,9 @@ impl InverseDynamics {
             actuation: None,
             joint_bounds: None,
             contact_forces: Vec::new(),
+            reference_scale: 1.0,
+            passivity: None,
+            rows_current: false,
             first,
             problem: QpProblem::new(model.nv, first, 0),
             solver: ActiveSetSolver::new(model.nv, first, 0),
@@ -233,7 +248,9 @@ impl InverseDynamics {
         let n_force: usize = c.iter().map(Contact::n_force).sum();
         let n_motion: usize = c.iter().map(Contact::n_motion).sum();
         let n_rows: usize = c.iter().map(Contact::n_rows).sum();
-        let n_in = n_rows + if self.actuation.is_some() { na } else { 0 };
+        let n_in = n_rows
+            + if self.actuation.is_some() { na } else { 0 }
+            + usize::from(self.passivity.is_some());
         let n_task_eq: usize = (self.tasks.entries().iter())
             .filter(|e| e.priority == 0)
             .map(|e| e.task.dim())
@@ -278,8 +295,11 @@ impl InverseDynamics {
         let m = &s.data.m;
         let h = &s.data.nle;
         // Contacts first: their Jacobians enter the dynamics rows.
-        for contact in &mut self.contacts {
-            contact.compute(model, s)?;
+        let reuse = std::mem::take(&mut self.rows_current);
+        if !reuse {
+            for contact in &mut self.contacts {
+                contact.compute(model, s)?;
+            }
         }
         // Floating-base dynamics rows: [M_u  −Jc_uᵀ] x = −h_u.
         copy_block(&mut p.a, (0, 0), m, (0, 0), (first, nv));
@@ -299,7 +319,11 @@ impl InverseDynamics {
             let nm = contact.n_motion();
             copy_block(&mut p.a, (r_eq, 0), &rows.a, (0, 0), (nm, nv));
             p.b.rows_mut(r_eq, nm).copy_from(&rows.b.rows(0, nm));
-            add_force_terms(p, contact, &self.contact_forces, r_in, col);
+            if self.reference_scale != 1.0 {
+                p.b.rows_mut(r_eq, nm).scale_mut(self.reference_scale);
+            }
+            let scale = self.reference_scale;
+            add_force_terms(p, contact, &self.contact_forces, r_in, col, scale);
             col += contact.n_force();
             r_eq += nm;
             r_in += contact.n_rows();
@@ -309,10 +333,20 @@ impl InverseDynamics {
             if e.priority != 0 {
                 continue;
             }
-            let rows = e.task.compute(model, s)?;
+            let rows = match reuse {
+                true if e.task.last_rows().is_some() => e.task.last_rows(),
+                _ => None,
+            };
+            let rows = match rows {
+                Some(rows) => rows,
+                None => e.task.compute(model, s)?,
+            };
             let m = rows.rows();
             copy_block(&mut p.a, (r_eq, 0), &rows.a, (0, 0), (m, nv));
             p.b.rows_mut(r_eq, m).copy_from(&rows.b);
+            if self.reference_scale != 1.0 {
+                p.b.rows_mut(r_eq, m).scale_mut(self.reference_scale);
+            }
             r_eq += m;
         }
         // Actuation bounds.
@@ -331,6 +365,29 @@ impl InverseDynamics {
                 p.l[r0 + k] = lower[k] - h[first + k];
                 p.u[r0 + k] = upper[k] - h[first + k];
             }
+            r_in += na;
+        }
+        // Passivity: q̇_jᵀ [M_a q̈ − Jc_aᵀ f] ≤ −Ḣ − q̇_jᵀ h_a.
+        if let Some(h_dot) = self.passivity {
+            let v = &s.v;
+            let mut bound = -h_dot + PASSIVITY_SLACK;
+            for k in first..nv {
+                bound -= v[k] * h[k];
+            }
+            for c in 0..nv {
+                let column = &m.as_slice()[c * nv..(c + 1) * nv];
+                p.c[(r_in, c)] = (first..nv).map(|k| v[k] * column[k]).sum();
+            }
+            let mut col = nv;
+            for contact in &self.contacts {
+                for j in 0..contact.n_force() {
+                    p.c[(r_in, col + j)] =
+                        -(first..nv).map(|k| v[k] * contact.jc[(j, k)]).sum::<f64>();
+                }
+                col += contact.n_force();
+            }
+            p.l[r_in] = f64::NEG_INFINITY;
+            p.u[r_in] = bound;
         }
         // Joint bounds on q̈ (the free-flyer and the forces stay free).
         p.lx.fill(f64::NEG_INFINITY);
@@ -346,8 +403,22 @@ impl InverseDynamics {
         let row = &mut self.scratch;
         for e in self.tasks.entries_mut() {
             if e.priority == 1 {
-                let rows = e.task.compute(model, s)?;
-                add_task_cost(&mut p.h, &mut p.g, rows, e.weight, row);
+                let rows = match reuse {
+                    true if e.task.last_rows().is_some() => e.task.last_rows(),
+                    _ => None,
+                };
+                let rows = match rows {
+                    Some(rows) => rows,
+                    None => e.task.compute(model, s)?,
+                };
+                add_task_cost(
+                    &mut p.h,
+                    &mut p.g,
+                    rows,
+                    e.weight,
+                    self.reference_scale,
+                    row,
+                );
             }
         }
         for i in 0..n {

@@ -41,13 +41,15 @@ pub(crate) fn torque_tick(
 
 /// A contact's force terms, its force variables starting at column `col`: the friction
 /// pyramid and normal-force bounds from inequality row `row`, the force regularization and
-/// the force tasks that name it.
+/// the force tasks that name it, their wanted wrench scaled by `force_scale` (1 but under
+/// an energy tank's valves, seed 000 Eq 5.24).
 pub(crate) fn add_force_terms(
     p: &mut QpProblem,
     contact: &Contact,
     force_tasks: &[(ContactForceTask, f64)],
     row: usize,
     col: usize,
+    force_scale: f64,
 ) {
     contact.force_constraints(&mut p.c, &mut p.l, &mut p.u, row, col);
     add_wrench_cost(
@@ -68,7 +70,7 @@ pub(crate) fn add_force_terms(
                 col,
                 &contact.t,
                 &ones,
-                &task.desired,
+                &(task.desired * force_scale),
                 *w,
             );
         }
@@ -112,27 +114,29 @@ impl RowScratch {
     }
 }
 
-/// `H += w AᵀA` and `g −= w Aᵀ b` for a task's rows: on the diagonal for a selection (a
-/// joint-space task), else by [`add_least_squares`].
+/// `H += w AᵀA` and `g −= w β Aᵀ b` for a task's rows, whose right side `b` is scaled by
+/// `beta` (1 but under an energy tank's valves, seed 000 Eq 5.24): on the diagonal for a
+/// selection (a joint-space task), else by [`add_least_squares`].
 pub(crate) fn add_task_cost(
     h: &mut DMatrix<f64>,
     g: &mut DVector<f64>,
     rows: &TaskRows,
     w: f64,
+    beta: f64,
     scratch: &mut RowScratch,
 ) {
     match rows.selection {
         Some(first) => {
             for k in 0..rows.rows() {
                 h[(first + k, first + k)] += w;
-                g[first + k] -= w * rows.b[k];
+                g[first + k] -= w * beta * rows.b[k];
             }
         }
-        None => add_least_squares(h, g, rows, w, scratch),
+        None => add_least_squares(h, g, rows, w, beta, scratch),
     }
 }
 
-/// `H += w AᵀA` and `g −= w Aᵀ b` over the first `A.ncols()` variables, as one rank-1 update
+/// `H += w AᵀA` and `g −= w β Aᵀ b` over the first `A.ncols()` variables, as one rank-1 update
 /// `w a_r a_rᵀ` per task row. A frame task's rows are zero outside the frame's chain (a
 /// foot's: 12 of TALOS' 38 columns), so a sparse row updates only its non-zero block; a
 /// dense one (CoM, momentum) runs contiguous inner loops over H's columns.
@@ -141,6 +145,7 @@ pub(crate) fn add_least_squares(
     g: &mut DVector<f64>,
     rows: &TaskRows,
     w: f64,
+    beta: f64,
     scratch: &mut RowScratch,
 ) {
     let (m, n) = (rows.a.nrows(), rows.a.ncols());
@@ -157,7 +162,7 @@ pub(crate) fn add_least_squares(
                 nonzeros.push(i);
             }
         }
-        let br = w * rows.b[r];
+        let br = w * beta * rows.b[r];
         let sparse = 2 * nonzeros.len() < n;
         for &j in nonzeros.iter() {
             let aj = row[j];

@@ -189,7 +189,7 @@ impl TorqueForce {
             copy_block(&mut p.a, (r_eq, 0), &self.mapped[i].a, (0, 0), (m, n));
             p.b.rows_mut(r_eq, m)
                 .copy_from(&self.mapped[i].b.rows(0, m));
-            add_force_terms(p, contact, &self.contact_forces, r_in, col);
+            add_force_terms(p, contact, &self.contact_forces, r_in, col, 1.0);
             col += contact.n_force();
             r_eq += m;
             r_in += contact.n_rows();
@@ -206,7 +206,7 @@ impl TorqueForce {
                 p.b.rows_mut(r_eq, m).copy_from(&mapped.b);
                 r_eq += m;
             } else {
-                add_task_cost(&mut p.h, &mut p.g, mapped, weight, &mut self.scratch);
+                add_task_cost(&mut p.h, &mut p.g, mapped, weight, 1.0, &mut self.scratch);
             }
         }
         let p = &mut self.problem;

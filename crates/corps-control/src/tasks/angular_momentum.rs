@@ -1,7 +1,7 @@
 //! Angular-momentum task about the CoM: `A_G,ang q̈ = −Kp∘(L − L_ref) + L̇_ref − (Ȧ_G v)_ang`
 //! (TSID `TaskAMEquality`; TSID 1.10 applies no derivative gain).
 
-use super::TaskRows;
+use super::{TaskErrorTerms, TaskRows};
 use crate::robot_state::RobotState;
 use nalgebra::Vector3;
 
@@ -11,6 +11,7 @@ pub struct AngularMomentumTask {
     pub reference: Vector3<f64>,
     pub reference_derivative: Vector3<f64>,
     rows: TaskRows,
+    terms: TaskErrorTerms,
 }
 
 impl AngularMomentumTask {
@@ -20,6 +21,7 @@ impl AngularMomentumTask {
             reference: Vector3::zeros(),
             reference_derivative: Vector3::zeros(),
             rows: TaskRows::new(3, nv),
+            terms: TaskErrorTerms::new(3),
         }
     }
 
@@ -35,6 +37,18 @@ impl AngularMomentumTask {
         for k in 0..3 {
             self.rows.b[k] =
                 -self.kp[k] * (l[k] - self.reference[k]) + self.reference_derivative[k] - drift[k];
+            // A momentum task has no position: X is ∫L, E = 0, Ė = L − L*, K_D = Kp.
+            self.terms.set(
+                k,
+                [
+                    0.0,
+                    l[k] - self.reference[k],
+                    0.0,
+                    self.kp[k],
+                    self.reference[k],
+                    self.reference_derivative[k] - drift[k],
+                ],
+            );
         }
         &self.rows
     }
@@ -53,5 +67,11 @@ impl super::Task for AngularMomentumTask {
         s: &crate::robot_state::RobotState,
     ) -> crate::error::Result<&super::TaskRows> {
         Ok(AngularMomentumTask::compute(self, s))
+    }
+    fn error_terms(&self) -> Option<&TaskErrorTerms> {
+        Some(&self.terms)
+    }
+    fn last_rows(&self) -> Option<&TaskRows> {
+        Some(&self.rows)
     }
 }

@@ -1,7 +1,7 @@
 //! Centre-of-mass task: `Jcom q̈ = a_des − J̇com v`,
 //! `a_des = −Kp∘(c − c_ref) − Kd∘(ċ − ċ_ref) + c̈_ref` (TSID `TaskComEquality`).
 
-use super::{Reference, TaskRows};
+use super::{Reference, TaskErrorTerms, TaskRows};
 use crate::robot_state::RobotState;
 use nalgebra::{DVector, Vector3};
 
@@ -11,6 +11,7 @@ pub struct ComTask {
     pub kd: Vector3<f64>,
     pub reference: Reference,
     rows: TaskRows,
+    terms: TaskErrorTerms,
 }
 
 impl ComTask {
@@ -20,6 +21,7 @@ impl ComTask {
             kd,
             reference: Reference::constant(DVector::zeros(3)),
             rows: TaskRows::new(3, nv),
+            terms: TaskErrorTerms::new(3),
         }
     }
 
@@ -35,8 +37,20 @@ impl ComTask {
     pub fn compute(&mut self, s: &RobotState) -> &TaskRows {
         let a = self.desired_acceleration(s);
         self.rows.a.copy_from(&s.data.jcom);
+        let r = &self.reference;
         for k in 0..3 {
             self.rows.b[k] = a[k] - s.com_drift[k];
+            self.terms.set(
+                k,
+                [
+                    s.data.com[k] - r.pos[k],
+                    s.com_velocity[k] - r.vel[k],
+                    self.kp[k],
+                    self.kd[k],
+                    r.vel[k],
+                    r.acc[k] - s.com_drift[k],
+                ],
+            );
         }
         &self.rows
     }
@@ -55,5 +69,11 @@ impl super::Task for ComTask {
         s: &crate::robot_state::RobotState,
     ) -> crate::error::Result<&super::TaskRows> {
         Ok(ComTask::compute(self, s))
+    }
+    fn error_terms(&self) -> Option<&TaskErrorTerms> {
+        Some(&self.terms)
+    }
+    fn last_rows(&self) -> Option<&TaskRows> {
+        Some(&self.rows)
     }
 }

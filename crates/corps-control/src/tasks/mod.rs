@@ -45,6 +45,64 @@ pub trait Task: Any + Send {
     fn dim(&self) -> usize;
     /// The rows at state `s` (whose `RobotState::update` has run); allocation-free.
     fn compute(&mut self, model: &Model, s: &RobotState) -> Result<&TaskRows>;
+    /// The task's error terms from the last `compute`, for formulations that account for a
+    /// task's energy (the energy tank); `None` for a task that has no PD law on an error.
+    fn error_terms(&self) -> Option<&TaskErrorTerms> {
+        None
+    }
+    /// The rows of the last `compute`, if the task keeps them (a formulation that computed
+    /// the tasks once this tick reads them instead of computing them again).
+    fn last_rows(&self) -> Option<&TaskRows> {
+        None
+    }
+}
+
+/// A task's PD law split into its parts (seed 000 Eq 5.7–5.8): rows `J q̈ = b` with
+/// `b = Ẍ* − J̇v − K_P E − K_D Ė`, error `E = X − X*`, `Ė = J v − Ẋ*`, one entry per row
+/// (a masked-out row has every entry zero). The tank's stacked energy reads these.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TaskErrorTerms {
+    /// E = X − X*.
+    pub e: DVector<f64>,
+    /// Ė = Ẋ − Ẋ*.
+    pub e_dot: DVector<f64>,
+    /// Diagonal of K_P.
+    pub kp: DVector<f64>,
+    /// Diagonal of K_D.
+    pub kd: DVector<f64>,
+    /// Ẋ*.
+    pub ref_vel: DVector<f64>,
+    /// Ẍ* − J̇v.
+    pub ref_acc_minus_drift: DVector<f64>,
+}
+
+impl TaskErrorTerms {
+    /// Zero terms for a task of `rows` rows.
+    pub fn new(rows: usize) -> Self {
+        let z = || DVector::zeros(rows);
+        Self {
+            e: z(),
+            e_dot: z(),
+            kp: z(),
+            kd: z(),
+            ref_vel: z(),
+            ref_acc_minus_drift: z(),
+        }
+    }
+
+    pub fn rows(&self) -> usize {
+        self.e.len()
+    }
+
+    /// Row `k`: (E, Ė, K_P, K_D, Ẋ*, Ẍ* − J̇v).
+    pub fn set(&mut self, k: usize, [e, e_dot, kp, kd, ref_vel, acc]: [f64; 6]) {
+        self.e[k] = e;
+        self.e_dot[k] = e_dot;
+        self.kp[k] = kp;
+        self.kd[k] = kd;
+        self.ref_vel[k] = ref_vel;
+        self.ref_acc_minus_drift[k] = acc;
+    }
 }
 
 /// The rows a task contributes: `a x ≈ b` (or `=` at priority 0).

@@ -1,7 +1,7 @@
 //! Joint posture task: `S q̈ = −Kp∘(q ⊖ q_ref) − Kd∘(v − v_ref) + a_ref` over the actuated
 //! joints (TSID `TaskJointPosture`; S selects the joint accelerations).
 
-use super::TaskRows;
+use super::{TaskErrorTerms, TaskRows};
 use crate::robot_state::RobotState;
 use corps_model::{difference_to, Model};
 use nalgebra::DVector;
@@ -17,6 +17,7 @@ pub struct PostureTask {
     first: usize,
     error: DVector<f64>,
     rows: TaskRows,
+    terms: TaskErrorTerms,
 }
 
 impl PostureTask {
@@ -38,6 +39,7 @@ impl PostureTask {
             first,
             error: DVector::zeros(model.nv),
             rows,
+            terms: TaskErrorTerms::new(na),
         }
     }
 
@@ -53,6 +55,17 @@ impl PostureTask {
             let j = self.first + k;
             self.rows.b[k] =
                 -self.kp[k] * self.error[j] - self.kd[k] * (s.v[j] - self.v_ref[k]) + self.a_ref[k];
+            self.terms.set(
+                k,
+                [
+                    self.error[j],
+                    s.v[j] - self.v_ref[k],
+                    self.kp[k],
+                    self.kd[k],
+                    self.v_ref[k],
+                    self.a_ref[k],
+                ],
+            );
         }
         &self.rows
     }
@@ -71,5 +84,11 @@ impl super::Task for PostureTask {
         s: &crate::robot_state::RobotState,
     ) -> crate::error::Result<&super::TaskRows> {
         Ok(PostureTask::compute(self, model, s))
+    }
+    fn error_terms(&self) -> Option<&TaskErrorTerms> {
+        Some(&self.terms)
+    }
+    fn last_rows(&self) -> Option<&TaskRows> {
+        Some(&self.rows)
     }
 }

@@ -2,7 +2,7 @@
 //! `J q̈ = a_des − J̇ v` with `M_err = oMf⁻¹ M_ref`, `p_err = [M_err.t; log3(M_err.R)]`,
 //! `v_err = Rᵀ v_ref − v_f`, `a_des = Kp∘p_err + Kd∘v_err + Rᵀ a_ref`.
 
-use super::TaskRows;
+use super::{TaskErrorTerms, TaskRows};
 use crate::robot_state::RobotState;
 use corps_model::spatial::{rotation::log3, Motion, Se3};
 use corps_model::{Model, Result};
@@ -37,6 +37,7 @@ pub struct Se3Task {
     pub mask: Vector6<f64>,
     jac: Matrix6xX<f64>,
     rows: TaskRows,
+    terms: TaskErrorTerms,
 }
 
 impl Se3Task {
@@ -55,12 +56,18 @@ impl Se3Task {
             mask: Vector6::repeat(1.0),
             jac: Matrix6xX::zeros(nv),
             rows: TaskRows::new(6, nv),
+            terms: TaskErrorTerms::new(6),
         }
     }
 
     /// The rows computed by the last `compute`.
     pub fn rows(&self) -> &TaskRows {
         &self.rows
+    }
+
+    /// The error terms of the last `compute`.
+    pub fn terms(&self) -> &TaskErrorTerms {
+        &self.terms
     }
 
     /// Desired LOCAL frame acceleration minus the drift, and the LOCAL Jacobian.
@@ -85,9 +92,23 @@ impl Se3Task {
             a_ref.to_vector(),
             drift.to_vector(),
         );
+        let vr = v_ref.to_vector();
         for k in 0..6 {
-            self.rows.b[k] =
-                self.mask[k] * (self.kp[k] * pe[k] + self.kd[k] * ve[k] + ar[k] - dr[k]);
+            let m = self.mask[k];
+            self.rows.b[k] = m * (self.kp[k] * pe[k] + self.kd[k] * ve[k] + ar[k] - dr[k]);
+            // E = −p_err and Ė = −v_err (LOCAL coordinates), a masked row all zero.
+            let on = if m != 0.0 { 1.0 } else { 0.0 };
+            self.terms.set(
+                k,
+                [
+                    -m * pe[k],
+                    -m * ve[k],
+                    on * self.kp[k],
+                    on * self.kd[k],
+                    m * vr[k],
+                    m * (ar[k] - dr[k]),
+                ],
+            );
         }
         s.frame_jacobian_local(model, self.frame, &mut self.jac)?;
         for r in 0..6 {
@@ -112,5 +133,11 @@ impl super::Task for Se3Task {
         s: &crate::robot_state::RobotState,
     ) -> crate::error::Result<&super::TaskRows> {
         Ok(Se3Task::compute(self, model, s)?)
+    }
+    fn error_terms(&self) -> Option<&TaskErrorTerms> {
+        Some(&self.terms)
+    }
+    fn last_rows(&self) -> Option<&TaskRows> {
+        Some(&self.rows)
     }
 }

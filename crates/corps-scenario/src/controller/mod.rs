@@ -1,7 +1,8 @@
 //! The three whole-body controllers of seed 000 chapter 4 behind one interface:
 //! - A, `ik_position`: hierarchical velocity IK, integrated once, joint position servos;
 //! - B, `tsid_position`: TSID's inverse dynamics, integrated twice, joint position servos;
-//! - C, `tsid_torque`: TSID's inverse dynamics at the measured state, joint torques.
+//! - C, `tsid_torque`: TSID's inverse dynamics at the measured state, joint torques;
+//! - `passive_torque`: C under a global energy tank (seed 000 ch. 5), its gains file's `[tank]`.
 
 mod ik;
 mod stabilized;
@@ -75,6 +76,7 @@ pub enum ControllerKind {
     IkPosition,
     TsidPosition,
     TsidTorque,
+    PassiveTorque,
 }
 
 impl ControllerKind {
@@ -84,6 +86,7 @@ impl ControllerKind {
             ControllerKind::IkPosition => "ik_position",
             ControllerKind::TsidPosition => "tsid_position",
             ControllerKind::TsidTorque => "tsid_torque",
+            ControllerKind::PassiveTorque => "passive_torque",
         }
     }
 
@@ -92,6 +95,7 @@ impl ControllerKind {
             ControllerKind::IkPosition => "IK (position)",
             ControllerKind::TsidPosition => "TSID (position)",
             ControllerKind::TsidTorque => "TSID (torque)",
+            ControllerKind::PassiveTorque => "passive TSID (torque, energy tank)",
         }
     }
 }
@@ -132,6 +136,12 @@ pub trait WholeBodyController: Send {
     fn stabilizer_output(&self) -> Option<&StabilizerOutput> {
         None
     }
+    /// Names of the controller's own log columns (the energy tank's signals, say).
+    fn channels(&self) -> &'static [&'static str] {
+        &[]
+    }
+    /// Appends the values of [`Self::channels`] for the last tick to `row`.
+    fn push_channels(&self, _row: &mut Vec<f64>) {}
 }
 
 /// A scenario's controller as the loop's [`Controller`]: it reads the estimator's state and
@@ -148,6 +158,16 @@ impl ScenarioController {
     /// The balance stabilizer's output of the last tick, if there is a stabilizer.
     pub fn stabilizer_output(&self) -> Option<&StabilizerOutput> {
         self.inner.stabilizer_output()
+    }
+
+    /// The controller's own log columns.
+    pub fn channels(&self) -> &'static [&'static str] {
+        self.inner.channels()
+    }
+
+    /// Their values at the last tick.
+    pub fn push_channels(&self, row: &mut Vec<f64>) {
+        self.inner.push_channels(row)
     }
 }
 

@@ -198,4 +198,12 @@ impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C>
     fn stabilizer_output(&self) -> Option<&StabilizerOutput> {
         self.output.as_ref()
     }
+
+    fn channels(&self) -> &'static [&'static str] {
+        self.inner.channels()
+    }
+
+    fn push_channels(&self, row: &mut Vec<f64>) {
+        self.inner.push_channels(row)
+    }
 }

@@ -44,7 +44,7 @@ use crate::error::Result;
 use crate::gains::TsidGains;
 use crate::targets::Targets;
 use corps_control::contacts::Contact;
-use corps_control::formulation::InverseDynamics;
+use corps_control::formulation::{InverseDynamics, PassiveInverseDynamics};
 use corps_control::tasks::{AngularMomentumTask, ComTask, PostureTask, Se3Reference, Se3Task};
 use corps_control::{FallbackReason, RobotState};
 use corps_model::spatial::Motion;
@@ -88,7 +88,24 @@ pub struct TsidController {
     q_prev: DVector<f64>,
     tau: DVector<f64>,
     command: Command,
+    /// The energy tank over the QP (the passive controller, torque mode).
+    passive: Option<PassiveInverseDynamics>,
 }
+
+/// The energy tank's log columns (seed 000 §4.5's figures): E_tank, the valves, B_σ, B_φ, Ḣ
+/// and the bound −q̇_jᵀτ it is held to, and the stacked task energy S.
+pub const TANK_CHANNELS: [&str; 10] = [
+    "tank_energy_J",
+    "alpha",
+    "beta",
+    "gamma",
+    "beta_phi",
+    "b_sigma_W",
+    "b_phi_W",
+    "h_dot_W",
+    "passivity_bound_W",
+    "task_energy_J",
+];
 
 impl TsidController {
     /// The controller for `robot` at the measured state (q, v): CoM, posture (towards
@@ -175,6 +192,17 @@ impl TsidController {
                 .into_owned();
             id.actuation = Some((-&limit, limit));
         }
+        let passive = match &g.tank {
+            Some(_) if mode == TsidMode::Position => crate::error::bail!(
+                "tank: the energy tank bounds the torques' power; it is for torque mode"
+            ),
+            Some(t) => {
+                let mut p = PassiveInverseDynamics::new(&model, t.tank()?, dt)?;
+                p.left_inverse = t.left_inverse.into();
+                Some(p)
+            }
+            None => None,
+        };
         let command = match mode {
             TsidMode::Torque => Command::Torque(DVector::zeros(na)),
             TsidMode::Position => Command::Position {
@@ -201,6 +229,7 @@ impl TsidController {
             command,
             gains,
             model,
+            passive,
         })
     }
 
@@ -293,9 +322,21 @@ impl WholeBodyController for TsidController {
         let damping = self.gains.safe_damping;
         match self.mode {
             TsidMode::Torque => {
-                let reason = self
-                    .id
-                    .tick(&model, &mut self.state, t, q, v, damping, &mut self.tau);
+                let reason = match &mut self.passive {
+                    Some(p) => p.tick(
+                        &mut self.id,
+                        &model,
+                        &mut self.state,
+                        t,
+                        q,
+                        v,
+                        damping,
+                        &mut self.tau,
+                    ),
+                    None => self
+                        .id
+                        .tick(&model, &mut self.state, t, q, v, damping, &mut self.tau),
+                };
                 if let Command::Torque(tau) = &mut self.command {
                     tau.copy_from(&self.tau);
                 }
@@ -344,5 +385,30 @@ impl WholeBodyController for TsidController {
 
     fn controller_com(&self) -> Vector3<f64> {
         self.state.data.com
+    }
+
+    fn channels(&self) -> &'static [&'static str] {
+        match self.passive {
+            Some(_) => &TANK_CHANNELS,
+            None => &[],
+        }
+    }
+
+    fn push_channels(&self, row: &mut Vec<f64>) {
+        if let Some(p) = &self.passive {
+            let s = &p.signals;
+            row.extend([
+                s.tank_energy,
+                s.valves.alpha,
+                s.valves.beta,
+                s.valves.gamma,
+                s.valves.beta_phi,
+                s.b_sigma,
+                s.b_phi,
+                s.h_dot,
+                s.passivity_bound,
+                s.task.storage,
+            ]);
+        }
     }
 }

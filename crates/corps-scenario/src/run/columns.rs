@@ -3,7 +3,8 @@
 use super::contacts::{ContactSample, ZMP_MIN_FZ};
 use corps_control::stabilizer::StabilizerOutput;
 
-/// The columns, in row order: the tracked signals, then with a stabilizer each foot's
+/// The columns, in row order: the tracked signals (`joint_power_W`: q̇ᵀτ of the torques the
+/// joints applied, true state), then with a stabilizer each foot's
 /// ankle admittance (roll, pitch) offset and rate, measured and desired CoP in the sole frame,
 /// and the DCM controller's desired ZMP (world x, y).
 pub fn log_columns(stabilized: bool) -> Vec<String> {
@@ -34,6 +35,7 @@ pub fn log_columns(stabilized: bool) -> Vec<String> {
         "base_est_x",
         "base_est_y",
         "base_est_z",
+        "joint_power_W",
         "tick_us",
     ]
     .map(String::from)

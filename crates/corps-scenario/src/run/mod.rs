@@ -147,14 +147,25 @@ impl ScenarioRun {
         let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
         let mass = model.total_mass();
         let (inner, stabilized) = match section.kind {
-            ControllerKind::TsidTorque | ControllerKind::TsidPosition => {
-                let mode = if section.kind == ControllerKind::TsidTorque {
-                    TsidMode::Torque
-                } else {
+            ControllerKind::TsidTorque
+            | ControllerKind::TsidPosition
+            | ControllerKind::PassiveTorque => {
+                let mode = if section.kind == ControllerKind::TsidPosition {
                     TsidMode::Position
+                } else {
+                    TsidMode::Torque
                 };
                 let g: gains::TsidGains =
                     gains::load(&source, &section.set).context("controller.gains")?;
+                match (section.kind == ControllerKind::PassiveTorque, g.tank.is_some()) {
+                    (true, false) => bail!(
+                        "controller.gains: the passive_torque controller needs a [tank] section"
+                    ),
+                    (false, true) => bail!(
+                        "controller.gains: [tank] is the passive controller's (kind = \"passive_torque\")"
+                    ),
+                    _ => {}
+                }
                 let stabilizer = g.stabilizer.clone();
                 let inner =
                     TsidController::new(&robot, mode, g, dt, &q, &v, &q0).context("controller")?;
@@ -246,7 +257,8 @@ impl ScenarioRun {
         let verdict =
             VerdictObserver::new(criteria, mass * GRAVITY, com0.z - recorder::support(&feet0))
                 .context("verdict")?;
-        let columns = log_columns(stabilized);
+        let mut columns = log_columns(stabilized);
+        columns.extend(inner.channels().iter().map(|c| c.to_string()));
         let base0 = Vector3::new(q[0], q[1], q[2]);
         let current = plan.initial_targets();
         Ok(Self {

@@ -101,7 +101,7 @@ impl Observer<ScenarioController> for Recorder<'_, '_> {
         let t = tick.t;
         let placements = s.soles.map(|f| truth.frame_placement(&s.model, f));
         let mut contact = contacts::measure(truth, &s.foot_joints, &placements);
-        let (w, w_pos) = work(truth, &s.model, s.dt);
+        let (w, w_pos, joint_power) = work(truth, &s.model, s.dt);
         let walking = self.walking(t);
         let m = &mut self.metrics;
         m.work += w;
@@ -160,12 +160,14 @@ impl Observer<ScenarioController> for Recorder<'_, '_> {
                 walking,
                 com_estimate: est.com,
                 base_estimate,
+                joint_power,
             },
             &mut self.contact_start,
         );
         if s.stabilized {
             push_stabilizer(&mut self.row, tick.controller.stabilizer_output(), &contact);
         }
+        tick.controller.push_channels(&mut self.row);
         self.series.push(&self.row);
         for sink in self.sinks.iter_mut() {
             if let Err(e) = sink.row(tick.index, &self.row) {
@@ -189,14 +191,15 @@ impl Observer<ScenarioController> for Recorder<'_, '_> {
     }
 }
 
-/// Mechanical work of the joints over one step: (Σ|τ q̇| dt, Σ max(τ q̇, 0) dt).
-fn work(truth: &Truth, model: &Model, dt: f64) -> (f64, f64) {
+/// Mechanical work of the joints over one step and their power: (Σ|τ q̇| dt,
+/// Σ max(τ q̇, 0) dt, q̇ᵀτ).
+fn work(truth: &Truth, model: &Model, dt: f64) -> (f64, f64, f64) {
     let tau = &truth.applied_torques;
     let v = &truth.v;
     let first = model.nv - tau.len();
-    (0..tau.len()).fold((0.0, 0.0), |(a, p), k| {
+    (0..tau.len()).fold((0.0, 0.0, 0.0), |(a, p, total), k| {
         let power = tau[k] * v[first + k];
-        (a + power.abs() * dt, p + power.max(0.0) * dt)
+        (a + power.abs() * dt, p + power.max(0.0) * dt, total + power)
     })
 }
 
@@ -214,6 +217,8 @@ struct Sample<'a> {
     /// The controller's estimate of the CoM and base position.
     com_estimate: Vector3<f64>,
     base_estimate: Vector3<f64>,
+    /// q̇ᵀτ of the torques the joints applied (W).
+    joint_power: f64,
 }
 
 /// Updates the metrics with one tick and fills `row` with its tracked signals, in
@@ -275,6 +280,7 @@ fn record(
     row.extend(s.base.iter());
     row.extend(s.com_estimate.iter());
     row.extend(s.base_estimate.iter());
+    row.push(s.joint_power);
     row.push(s.tick_us);
     let drift = (s.base - s.base0).norm();
     m.base_drift = drift;

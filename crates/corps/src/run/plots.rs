@@ -1,6 +1,7 @@
 //! PNG plots of a controller run: CoM against its reference, ZMP against its reference, feet
 //! heights and vertical forces, base position, controller time per tick; with a stabilizer,
-//! the ankle admittance's offsets and rates and each foot's CoP against its target.
+//! the ankle admittance's offsets and rates and each foot's CoP against its target; with an
+//! energy tank, its energy, its valves and the power bound (seed 000 §4.5's figures).
 
 use crate::sim_cmd::plots::{draw_figures, Figure, Panel};
 use anyhow::{anyhow, Result};
@@ -153,6 +154,43 @@ pub fn write(
             }
         }
         figure("ankle.png", format!("{title}: ankle admittance"), panels, 2);
+    }
+    // The energy tank's signals (absent without one).
+    if header.iter().any(|h| h == "tank_energy_J") {
+        let panels = vec![
+            Panel::new(
+                "tank energy",
+                "J",
+                vec![("E_tank".into(), column("tank_energy_J")?)],
+            ),
+            Panel::new(
+                "valves",
+                "",
+                vec![
+                    ("alpha".into(), column("alpha")?),
+                    ("beta".into(), column("beta")?),
+                    ("gamma".into(), column("gamma")?),
+                    ("beta_phi".into(), column("beta_phi")?),
+                ],
+            ),
+            Panel::new(
+                "storage rate and its bound",
+                "W",
+                vec![
+                    ("dH/dt".into(), column("h_dot_W")?),
+                    ("-qdot^T tau (bound)".into(), column("passivity_bound_W")?),
+                ],
+            ),
+            Panel::new(
+                "tank power",
+                "W",
+                vec![
+                    ("B_sigma".into(), column("b_sigma_W")?),
+                    ("B_phi".into(), column("b_phi_W")?),
+                ],
+            ),
+        ];
+        figure("tank.png", format!("{title}: energy tank"), panels, 2);
     }
     draw_figures(t, &figures)
 }
