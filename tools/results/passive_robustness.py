@@ -6,9 +6,12 @@ CoM reference step, pushes of 100, 200 and 300 N at the base. Both controllers r
 gains file (config/talos/passive_torque.toml; plain TSID without its [tank]).
 
 Per run: verdict, the peak energy the joints injected (max over t of the integral of
-q_dot^T tau, column joint_power_W of the log), and for the passive controller the tank at the
-start and its lowest energy, the ticks where the power row was violated (h_dot_W above
-passivity_bound_W by more than 1e-6 W) and the fallbacks.
+q_dot^T tau of the applied torques and the true velocity, column joint_power_W of the log),
+and for the passive controller the tank at the start and its lowest energy, the ticks where
+the power row was violated (h_dot_W above passivity_bound_W by more than 1e-6 W), the
+fallbacks, the energy the robot received beyond the storage's loss that the empty tank could
+not pay (sampled power, until the first fallback), and the largest energy given beyond both
+(should be 0).
 
 Usage: cargo build --release && python3 tools/results/passive_robustness.py [--corps PATH]
 Prints a markdown table (RESULTS.md keeps it).
@@ -120,7 +123,36 @@ def run(corps, tmp, name, kind, gains_text, motion, pushes):
         )
         fallbacks = sum(1 for r in rows if r["h_dot_W"] == "NaN" or r["h_dot_W"] == "nan")
         s0 = float(rows[0]["task_energy_J"])
-        res.update(tank0=e[0], tank_min=min(e), s0=s0, violations=viol, fallbacks=fallbacks)
+
+        def storage(r):
+            # A tick that fell back (h_dot_W NaN) holds no task spring.
+            if r["h_dot_W"].lower() == "nan":
+                return float(r["tank_energy_J"])
+            return (
+                float(r["beta"]) * float(r["gamma"]) * float(r["task_energy_J"])
+                + float(r["tank_energy_J"])
+                - float(r["spring_payment_J"])
+            )
+
+        # The energy the robot received over each step (-tau^T dq, port_energy_J) beyond what
+        # the storage H = beta gamma S + E_tank lost: all of it should be the bookings the
+        # empty tank could not pay (unpaid_J); "beyond" is what is not.
+        h0, given, unpaid, beyond, unpaid_first = storage(rows[0]), 0.0, 0.0, float("-inf"), None
+        for r in rows:
+            given -= float(r["port_energy_J"])
+            unpaid += float(r["unpaid_J"])
+            if r["h_dot_W"].lower() == "nan" and unpaid_first is None:
+                unpaid_first = unpaid
+            beyond = max(beyond, given - (h0 - storage(r)) - unpaid)
+        res.update(
+            tank0=e[0],
+            tank_min=min(e),
+            s0=s0,
+            violations=viol,
+            fallbacks=fallbacks,
+            beyond=beyond,
+            unpaid=unpaid if unpaid_first is None else unpaid_first,
+        )
     return res
 
 
@@ -143,8 +175,8 @@ def main():
     )
     for f in [100, 200, 300]:
         cases.append((f"(d) push {f} N forward, 0.1 s", 1, [float(f)], "[motion]\nkind = \"stand\""))
-    print("| case | plain TSID: verdict | plain: peak injected (J) | passive: verdict | passive: peak injected (J) | tank start / lowest (J) | S at start (J) | row violations | fallback ticks |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("| case | plain TSID: verdict | plain: peak injected (J) | passive: verdict | passive: peak injected (J) | tank start / lowest (J) | S at start (J) | row violations | fallback ticks | unpaid before the first fallback (J) | unexplained (J) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
         for i, (label, k, pushes, motion) in enumerate(cases):
             plain = run(args.corps, tmp, f"p{i}", "tsid_torque", scaled_gains(base, k, False), motion, pushes)
@@ -152,7 +184,8 @@ def main():
             print(
                 f"| {label} | {plain['verdict']} | {plain['peak_injected_J']:.2f} | {passive['verdict']} | "
                 f"{passive['peak_injected_J']:.2f} | {passive['tank0']:.2f} / {passive['tank_min']:.3f} | "
-                f"{passive['s0']:.3f} | {passive['violations']} | {passive['fallbacks']} |",
+                f"{passive['s0']:.3f} | {passive['violations']} | {passive['fallbacks']} | "
+                f"{passive['unpaid']:.3f} | {passive['beyond']:.1e} |",
                 flush=True,
             )
 

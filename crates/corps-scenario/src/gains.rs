@@ -177,8 +177,8 @@ pub struct TankGains {
     pub energy_width: f64,
     #[serde(default = "band")]
     pub power_width: f64,
-    /// The left inverse of the stacked task Jacobian in Λ: `unweighted` (seed 000 Eq 5.9, the
-    /// default) or `weighted` by the tasks' weights in the QP.
+    /// The left inverse of the stacked task Jacobian in Λ: `weighted` by the tasks' weights in
+    /// the QP (the default) or `unweighted` (seed 000 Eq 5.9).
     #[serde(default)]
     pub left_inverse: LeftInverseName,
 }
@@ -187,8 +187,8 @@ pub struct TankGains {
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum LeftInverseName {
-    #[default]
     Unweighted,
+    #[default]
     Weighted,
 }
 

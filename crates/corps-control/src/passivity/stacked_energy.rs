@@ -267,6 +267,12 @@ impl StackedTaskEnergy {
         }
     }
 
+    /// Forgets the previous tick (after a tick that did not compute, so that Λ̇ is never
+    /// taken over more than one step).
+    pub fn forget(&mut self) {
+        self.prev_shape = None;
+    }
+
     /// Stacked rows so far (L).
     pub fn rows(&self) -> usize {
         self.now.sqrt_w.len()
@@ -322,9 +328,25 @@ impl StackedTaskEnergy {
     ) -> Result<TaskPower> {
         let (n, l) = (self.nv, self.rows());
         if l < n || self.e.len() != l {
+            self.forget();
             return Err(rank_error(l, n));
         }
-        self.now.factor(n).map_err(|_| rank_error(l, n))?;
+        if m.nrows() != n || m.ncols() != n || v.len() != n {
+            self.forget();
+            return Err(ControlError::Config {
+                name: "energy tank".into(),
+                reason: format!(
+                    "M is {}×{} and v has {} entries for {n} velocities",
+                    m.nrows(),
+                    m.ncols(),
+                    v.len()
+                ),
+            });
+        }
+        if self.now.factor(n).is_err() {
+            self.forget();
+            return Err(rank_error(l, n));
+        }
         let [u0, u1, mu1, u3] = &mut self.u;
         let (w, z) = (&mut self.w, &mut self.z);
         // Λ K_P E = J†ᵀ M J† K_P E: then EᵀΛK_PE, Ẋ*ᵀΛK_PE and ĖᵀΛK_PE are dot products.

@@ -183,6 +183,15 @@ impl EnergyTank {
     pub fn integrate(&mut self, rate: f64, dt: f64) {
         self.energy += rate * dt;
     }
+
+    /// Adds `energy` J to the tank at once (negative: takes it out), kept within
+    /// [0, E_max] (what would pass E_max is let go, as α does). Returns what it could not
+    /// pay: the part of a withdrawal beyond its energy (J, ≥ 0).
+    pub fn transfer(&mut self, energy: f64) -> f64 {
+        let target = self.energy + energy;
+        self.energy = target.clamp(0.0, self.params.e_max);
+        (-target).max(0.0)
+    }
 }
 
 #[cfg(test)]

@@ -39,6 +39,18 @@ pub fn stiff_settings() -> SimSettings {
     s
 }
 
+/// The scenarios' contact (`scenarios/control/tsid_torque_*.toml`): 10× the default
+/// stiffness under the linearly implicit Euler integrator, one physics step per 1 ms tick.
+pub fn implicit_settings() -> SimSettings {
+    let mut s = SimSettings {
+        integrator: Integrator::ImplicitEuler,
+        ..SimSettings::default()
+    };
+    s.contact.normal_stiffness = 4e8;
+    s.contact.tangential_stiffness = 4e8;
+    s
+}
+
 /// TALOS settled in half-sitting under the PD hold (0.5 s), and its initial configuration.
 pub fn settled_talos(settings: SimSettings) -> (Simulator, DVector<f64>) {
     let model = talos_box();

@@ -92,9 +92,13 @@ pub struct TsidController {
     passive: Option<PassiveInverseDynamics>,
 }
 
-/// The energy tank's log columns (seed 000 §4.5's figures): E_tank, the valves, B_σ, B_φ, Ḣ
-/// and the bound −q̇_jᵀτ it is held to, and the stacked task energy S.
-pub const TANK_CHANNELS: [&str; 10] = [
+/// The energy tank's log columns (seed 000 §4.5's figures): E_tank at the start of the tick,
+/// the valves, B_σ, B_φ, Ḣ and the bound −q̇_jᵀτ it is held to, the stacked task energy S and
+/// the energy u the tank paid the spring at the start of the tick (the storage after it is
+/// `beta·gamma·task_energy_J + tank_energy_J − spring_payment_J`), and the energy the
+/// controller received over the last step, −τᵀΔq_j (`port_energy_J`; the tank has booked
+/// it), and what of the bookings an empty tank could not pay (`unpaid_J`).
+pub const TANK_CHANNELS: [&str; 13] = [
     "tank_energy_J",
     "alpha",
     "beta",
@@ -105,6 +109,9 @@ pub const TANK_CHANNELS: [&str; 10] = [
     "h_dot_W",
     "passivity_bound_W",
     "task_energy_J",
+    "spring_payment_J",
+    "port_energy_J",
+    "unpaid_J",
 ];
 
 impl TsidController {
@@ -408,6 +415,9 @@ impl WholeBodyController for TsidController {
                 s.h_dot,
                 s.passivity_bound,
                 s.task.storage,
+                s.spring_payment,
+                s.port_energy,
+                s.unpaid,
             ]);
         }
     }
