@@ -242,3 +242,29 @@ fn an_ik_weight_ramp_needs_no_rebuild() {
     );
     assert!((after_ramp - mean(100.0)).abs() < 1e-6, "{after_ramp}");
 }
+
+/// A posture reference that is not a configuration of the model, or gains of the wrong size,
+/// are errors of the tick, not a stale error or a panic.
+#[test]
+fn a_bad_posture_reference_or_gain_size_is_an_error() {
+    use corps_control::tasks::PostureTask;
+    let (model, q, state, _) = standing();
+    let na = model.nv - 6;
+    let mut bad_ref = q.clone();
+    bad_ref[3] = f64::NAN; // the base quaternion
+    let mut task = PostureTask::new(
+        &model,
+        DVector::repeat(na, 1.0),
+        DVector::repeat(na, 1.0),
+        bad_ref,
+    );
+    assert!(task.compute(&model, &state).is_err());
+    let mut task = PostureTask::new(
+        &model,
+        DVector::repeat(na - 1, 1.0),
+        DVector::repeat(na, 1.0),
+        q.clone(),
+    );
+    let e = task.compute(&model, &state).unwrap_err().to_string();
+    assert!(e.contains("kp"), "{e}");
+}

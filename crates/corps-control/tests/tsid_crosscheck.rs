@@ -95,7 +95,7 @@ fn check_tick(model: &corps_model::Model, state: &mut RobotState, tick: &Value, 
     let post = id.tasks.task_mut::<PostureTask>("posture").unwrap();
     assert_close(
         &ctx("posture rhs"),
-        post.compute(model, state).b.as_slice(),
+        post.compute(model, state).unwrap().b.as_slice(),
         &vecf(&tick["posture"]["computed"]["rhs"]),
         1e-10,
     );

@@ -2,6 +2,7 @@
 //! joints (TSID `TaskJointPosture`; S selects the joint accelerations).
 
 use super::{TaskErrorTerms, TaskRows};
+use crate::error::{ControlError, Result};
 use crate::robot_state::RobotState;
 use corps_model::{difference_to, Model};
 use nalgebra::DVector;
@@ -43,14 +44,30 @@ impl PostureTask {
         }
     }
 
-    pub fn compute(&mut self, model: &Model, s: &RobotState) -> &TaskRows {
+    /// The rows at state `s`; an error when `q_ref` is not a configuration of `model` or a
+    /// gain or reference vector has not one entry per row.
+    pub fn compute(&mut self, model: &Model, s: &RobotState) -> Result<&TaskRows> {
+        let n = self.rows.rows();
+        for (name, len) in [
+            ("kp", self.kp.len()),
+            ("kd", self.kd.len()),
+            ("v_ref", self.v_ref.len()),
+            ("a_ref", self.a_ref.len()),
+        ] {
+            if len != n {
+                return Err(ControlError::Config {
+                    name: "posture task".into(),
+                    reason: format!("{name} has {len} entries for {n} joints"),
+                });
+            }
+        }
         // e = q ⊖ q_ref (TSID: pinocchio::difference(q_ref, q)).
-        let _ = difference_to(
+        difference_to(
             model,
             self.q_ref.as_slice(),
             s.q.as_slice(),
             self.error.as_mut_slice(),
-        );
+        )?;
         for k in 0..self.rows.rows() {
             let j = self.first + k;
             self.rows.b[k] =
@@ -67,7 +84,7 @@ impl PostureTask {
                 ],
             );
         }
-        &self.rows
+        Ok(&self.rows)
     }
 }
 
@@ -83,7 +100,7 @@ impl super::Task for PostureTask {
         model: &corps_model::Model,
         s: &crate::robot_state::RobotState,
     ) -> crate::error::Result<&super::TaskRows> {
-        Ok(PostureTask::compute(self, model, s))
+        PostureTask::compute(self, model, s)
     }
     fn error_terms(&self) -> Option<&TaskErrorTerms> {
         Some(&self.terms)
