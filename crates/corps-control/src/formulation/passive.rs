@@ -11,16 +11,15 @@
 //!
 //! The tank then integrates `Ė_tank = (1 − α)(βγ B_σ − β_φ B_φ)` (Eq 5.22). What the
 //! equations leave out is charged to it as well, so that the storage `H = βγ S + E_tank`
-//! changes by exactly `Ḣ dt` per tick and the controller never gives the robot more than H
-//! lost: the spring energy that appears or goes between ticks outside `βγ Ṡ dt` (βγ rising
+//! changes by exactly `Ḣ dt` per tick: the spring energy that appears or goes between ticks outside `βγ Ṡ dt` (βγ rising
 //! brings back `Δ(βγ)·S`, a reference step or a task entering the stack adds to S, the
 //! discretization). γ is lowered until the tank can pay it. Measured without this charge
 //! (`tests/passive_closed_loop.rs`): a 5 cm CoM step gave the robot 5.96 J more than H lost
 //! (the spring energy the step creates), a 2 cm step under ten times the CoM gains 9.60 J.
 //!
 //! The power row bounds `−q̇_jᵀτ` at the tick's velocity, but over the step the torques,
-//! held, give the robot `τᵀΔq_j`, which differs where the joints accelerate (a push on a
-//! stiff contact: 30 W apart within a tick). The next tick books the difference into the
+//! held, give the robot `τᵀΔq_j`, which differs where the joints accelerate (under a push
+//! on the stiff contact, by tens of watts). The next tick books the difference into the
 //! tank from the encoders' Δq, so the tank pays what the robot really received; a safe
 //! command's whole step is booked the same way. What an empty tank cannot pay
 //! ([`PassiveSignals::unpaid`]) is energy the robot received beyond the storage's loss: the
@@ -36,8 +35,11 @@
 //! ([`LeftInverse::Unweighted`]); [`StackedTaskEnergy`] says what each does. Measured on
 //! TALOS (`tests/passive_closed_loop.rs`, a 5 cm CoM step): with Eq 5.9's the power row
 //! binds at most ticks, the torques chatter, the tank empties and the robot drifts off its
-//! reference; with the weighted one the CoM reaches it. A tick whose stage 1 or QP fails gives the safe
-//! command and its reason; the tank holds its energy and the next tick takes no Λ̇.
+//! reference; with the weighted one the CoM reaches it.
+//!
+//! A tick whose stage 1 or QP fails gives the safe command and its reason; the next tick
+//! books that command's step, takes no Λ̇, and pays the tasks' whole spring energy when they
+//! come back (the safe command holds none).
 
 use super::qp_terms::torque_tick;
 use super::InverseDynamics;
@@ -51,7 +53,7 @@ use nalgebra::{DVector, Vector6};
 /// The tank's signals of one tick, for the log (seed 000 §4.5's figures).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PassiveSignals {
-    /// E_tank at the start of the tick (J).
+    /// E_tank at the start of the tick, after booking the last step (J).
     pub tank_energy: f64,
     pub valves: Valves,
     /// B_σ and B_φ (W).
