@@ -134,7 +134,7 @@ impl PassiveInverseDynamics {
             frame_velocity: Vector6::zeros(),
             prev: None,
             last_q: DVector::zeros(model.nq),
-            last_tau: DVector::zeros(model.nv - if model.has_free_flyer() { 6 } else { 0 }),
+            last_tau: DVector::zeros(model.na()),
             last_expected: None,
             dq: DVector::zeros(model.nv),
             dt,

@@ -126,9 +126,25 @@ impl Factored {
         Ok(())
     }
 
-    /// `out = J†_W x = (JᵀWJ)⁻¹ JᵀW x` (x: one entry per row), `w` a scratch of n.
-    fn solve(&self, n: usize, x: &[f64], w: &mut [f64], out: &mut [f64]) {
-        w.fill(0.0);
+    /// `x ← (JᵀWJ)⁻¹ x` (n entries): `L y = x`, then `Lᵀ x = y` column by column of Lᵀ
+    /// (rows of L).
+    fn solve_gram_in_place(&self, n: usize, x: &mut [f64]) {
+        let l = &self.chol;
+        for i in 0..n {
+            x[i] = (x[i] - dot(&l[i * n..i * n + i], &x[..i])) / l[i * n + i];
+        }
+        for i in (0..n).rev() {
+            let xi = x[i] / l[i * n + i];
+            x[i] = xi;
+            for (o, lij) in x[..i].iter_mut().zip(&l[i * n..i * n + i]) {
+                *o -= lij * xi;
+            }
+        }
+    }
+
+    /// `out = J†_W x = (JᵀWJ)⁻¹ JᵀW x` (x: one entry per row).
+    fn solve(&self, n: usize, x: &[f64], out: &mut [f64]) {
+        out.fill(0.0);
         for (r, (&xr, &sw)) in x.iter().zip(&self.sqrt_w).enumerate() {
             let s = xr * sw;
             if s == 0.0 {
@@ -136,40 +152,16 @@ impl Factored {
             }
             let row = &self.rows[r * n..(r + 1) * n];
             for &c in &self.nonzeros[self.starts[r]..self.starts[r + 1]] {
-                w[c] += s * row[c];
+                out[c] += s * row[c];
             }
         }
-        let l = &self.chol;
-        // L y = w.
-        for i in 0..n {
-            out[i] = (w[i] - dot(&l[i * n..i * n + i], &out[..i])) / l[i * n + i];
-        }
-        // Lᵀ out = y, column by column of Lᵀ (rows of L).
-        for i in (0..n).rev() {
-            let xi = out[i] / l[i * n + i];
-            out[i] = xi;
-            for (o, lij) in out[..i].iter_mut().zip(&l[i * n..i * n + i]) {
-                *o -= lij * xi;
-            }
-        }
+        self.solve_gram_in_place(n, out);
     }
-}
 
-impl Factored {
     /// `out = J†_Wᵀ y = W J (JᵀWJ)⁻¹ y` (one entry per row), `w` a scratch of n.
     fn solve_transposed(&self, n: usize, y: &[f64], w: &mut [f64], out: &mut Vec<f64>) {
-        let l = &self.chol;
-        for i in 0..n {
-            w[i] = (y[i] - dot(&l[i * n..i * n + i], &w[..i])) / l[i * n + i];
-        }
-        for i in (0..n).rev() {
-            let xi = w[i] / l[i * n + i];
-            w[i] = xi;
-            let (head, _) = w.split_at_mut(i);
-            for (o, lij) in head.iter_mut().zip(&l[i * n..i * n + i]) {
-                *o -= lij * xi;
-            }
-        }
+        w.copy_from_slice(&y[..n]);
+        self.solve_gram_in_place(n, w);
         out.clear();
         for (r, &sw) in self.sqrt_w.iter().enumerate() {
             let row = &self.rows[r * n..(r + 1) * n];
@@ -350,7 +342,7 @@ impl StackedTaskEnergy {
         let [u0, u1, mu1, u3] = &mut self.u;
         let (w, z) = (&mut self.w, &mut self.z);
         // Λ K_P E = J†ᵀ M J† K_P E: then EᵀΛK_PE, Ẋ*ᵀΛK_PE and ĖᵀΛK_PE are dot products.
-        self.now.solve(n, &self.kp_e, w, u1);
+        self.now.solve(n, &self.kp_e, u1);
         mat_vec(m, u1, mu1);
         self.now.solve_transposed(n, mu1, w, z);
         let e_lambda_kp_e = dot(&self.e, z);
@@ -359,7 +351,7 @@ impl StackedTaskEnergy {
         // Λ̇ term: the same form with last tick's J† and M.
         let shape = Shape { rows: l, signature };
         let lambda_dot_term = if self.prev_shape == Some(shape) {
-            self.prev.solve(n, &self.kp_e, w, u3);
+            self.prev.solve(n, &self.kp_e, u3);
             mat_vec(&self.prev_m, u3, u0);
             self.prev.solve_transposed(n, u0, w, z);
             0.5 * (e_lambda_kp_e - dot(&self.e, z)) / dt
