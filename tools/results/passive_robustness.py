@@ -2,7 +2,9 @@
 """Plain TSID against the passive controller (seed 000 ch. 5) on the same TALOS scenarios:
 gains x1, x2, x5, x10 over Table 5.2 (Kp and Kd of every task; the posture's Kd, always
 2 sqrt(Kp) in corps, x sqrt(k)) under a 100 N push, a 10 cm
-CoM reference step, pushes of 100, 200 and 300 N at the base. Both controllers read the same
+CoM reference step, the block under the pressing hand pulled away (the tool, block, force
+schedule and emergency action of scenarios/passive/force_contact.toml, 40 s), pushes of 100,
+200 and 300 N at the base. Both controllers read the same
 gains file (config/talos/passive_torque.toml; plain TSID without its [tank]).
 
 Per run: verdict, the peak energy the joints injected (max over t of the integral of
@@ -27,6 +29,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 GAINS = ROOT / "config/talos/passive_torque.toml"
+FORCE_SCENARIO = ROOT / "scenarios/passive/force_contact.toml"
 DURATION = 6.0
 PUSH_AT = 1.0
 
@@ -35,7 +38,7 @@ def scaled_gains(text, factor, tank):
     """The gains file with every Kp and Kd times `factor` (Kd written out where it was
     2 sqrt(Kp)), without [tank] when `tank` is False."""
     out, section = [], None
-    body = text.split("\n[tank]")[0] if not tank else text
+    body = text if tank else re.sub(r"\n\[tank\]\n.*?(?=\n\[|\n# |\Z)", "\n", text, flags=re.S)
     lines = body.splitlines()
     kp_seen = {}
     for line in lines:
@@ -53,17 +56,16 @@ def scaled_gains(text, factor, tank):
     # Sections whose Kd defaulted to 2 sqrt(Kp): write the scaled Kd explicitly.
     for section, kp in kp_seen.items():
         block = re.search(rf"\[{section}\]\n(.*?)(\n\[|\Z)", text, re.S)
-        # The momentum task is P only (TSID's TaskAMEquality).
         # The momentum task is P only (TSID's TaskAMEquality); the posture's Kd is always
-        # 2 sqrt(Kp) (so x sqrt(k) there).
-        if block and "kd" not in block.group(1) and section not in ("angular_momentum", "posture"):
+        # 2 sqrt(Kp) (so x sqrt(k) there); the force task's absent Kd is 0 (Table 5.2).
+        if block and "kd" not in block.group(1) and section not in ("angular_momentum", "posture", "force_contact"):
             kd = 2.0 * kp ** 0.5 * factor
             text = text.replace(f"[{section}]\n", f"[{section}]\nkd = {kd!r}\n", 1)
     return text
 
 
-def scenario(kind, gains_path, motion, pushes):
-    s = f"""duration = {DURATION}
+def scenario(kind, gains_path, motion, pushes, duration):
+    s = f"""duration = {duration}
 
 [controller]
 kind = "{kind}"
@@ -91,11 +93,11 @@ force = [{force}, 0.0, 0.0]
     return s
 
 
-def run(corps, tmp, name, kind, gains_text, motion, pushes):
+def run(corps, tmp, name, kind, gains_text, motion, pushes, duration=DURATION):
     d = Path(tmp) / name
     d.mkdir()
     (d / "gains.toml").write_text(gains_text)
-    (d / "scenario.toml").write_text(scenario(kind, d / "gains.toml", motion, pushes))
+    (d / "scenario.toml").write_text(scenario(kind, d / "gains.toml", motion, pushes, duration))
     p = subprocess.run(
         [corps, "run", str(d / "scenario.toml"), "-o", str(d / "out"), "--serial"],
         capture_output=True,
@@ -173,14 +175,18 @@ def main():
             "[motion]\nkind = \"com_step\"\noffset = [0.0, 0.1, 0.0]\nat = 1.0",
         )
     )
+    # (c): scenarios/passive/force_contact.toml's tool, block and schedule, 40 s.
+    press = FORCE_SCENARIO.read_text().split("[motion]")[1].split("[sim]")[0]
+    cases.append(("(c) contact lost: the block under the pressing hand removed at 32.3 s", 1, [], "[motion]" + press, 40.0))
     for f in [100, 200, 300]:
         cases.append((f"(d) push {f} N forward, 0.1 s", 1, [float(f)], "[motion]\nkind = \"stand\""))
     print("| case | plain TSID: verdict | plain: peak injected (J) | passive: verdict | passive: peak injected (J) | tank start / lowest (J) | S at start (J) | row violations | fallback ticks | unpaid before the first fallback (J) | unexplained (J) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
-        for i, (label, k, pushes, motion) in enumerate(cases):
-            plain = run(args.corps, tmp, f"p{i}", "tsid_torque", scaled_gains(base, k, False), motion, pushes)
-            passive = run(args.corps, tmp, f"t{i}", "passive_torque", scaled_gains(base, k, True), motion, pushes)
+        for i, (label, k, pushes, motion, *duration) in enumerate(cases):
+            d = duration[0] if duration else DURATION
+            plain = run(args.corps, tmp, f"p{i}", "tsid_torque", scaled_gains(base, k, False), motion, pushes, d)
+            passive = run(args.corps, tmp, f"t{i}", "passive_torque", scaled_gains(base, k, True), motion, pushes, d)
             print(
                 f"| {label} | {plain['verdict']} | {plain['peak_injected_J']:.2f} | {passive['verdict']} | "
                 f"{passive['peak_injected_J']:.2f} | {passive['tank0']:.2f} / {passive['tank_min']:.3f} | "

@@ -17,6 +17,7 @@ const DT: f64 = 1e-3;
 struct Run {
     signals: Vec<PassiveSignals>,
     fallbacks: usize,
+    first_fallback: Option<String>,
     min_base_z: f64,
     com_error_end: f64,
 }
@@ -44,6 +45,7 @@ fn run(seconds: f64, com_step: [f64; 3], gain_factor: f64, tank0: f64) -> Run {
     let mut out = Run {
         signals: Vec::new(),
         fallbacks: 0,
+        first_fallback: None,
         min_base_z: f64::INFINITY,
         com_error_end: 0.0,
     };
@@ -67,6 +69,10 @@ fn run(seconds: f64, com_step: [f64; 3], gain_factor: f64, tank0: f64) -> Run {
             5.0,
             &mut tau,
         );
+        if let Some(reason) = &r {
+            out.first_fallback
+                .get_or_insert_with(|| format!("t = {t:.3} s: {reason}"));
+        }
         out.fallbacks += usize::from(r.is_some());
         out.signals.push(passive.signals);
         sim.step(&Command::Torque(tau.clone())).unwrap();
@@ -80,7 +86,7 @@ fn run(seconds: f64, com_step: [f64; 3], gain_factor: f64, tank0: f64) -> Run {
 }
 
 fn check_passive(r: &Run, e_max: f64) {
-    assert_eq!(r.fallbacks, 0, "no tick fell back");
+    assert_eq!(r.fallbacks, 0, "no tick fell back: {:?}", r.first_fallback);
     for (k, s) in r.signals.iter().enumerate() {
         assert!(
             s.h_dot <= s.passivity_bound + 1e-6,

@@ -161,12 +161,52 @@ struct Foot {
     load: f64,
 }
 
+impl Foot {
+    /// The foot of `f`: its sensor and its sole frame on one body.
+    fn new(
+        model: &Model,
+        f: &FootSensor,
+        settings: &EstimatorSettings,
+    ) -> Result<Self, EstimationError> {
+        let frame = |id: usize, what: &str| {
+            model
+                .frames
+                .get(id)
+                .ok_or_else(|| EstimationError::Setup(format!("{what}: no frame #{id}")))
+        };
+        let (sensor, sole) = (
+            frame(f.sensor_frame, "F/T sensor")?,
+            frame(f.sole_frame, "contact frame")?,
+        );
+        if sensor.parent_joint != sole.parent_joint || sole.parent_joint.is_none() {
+            return Err(EstimationError::Setup(format!(
+                "the F/T sensor frame '{}' and the contact frame '{}' are not on one body",
+                sensor.name, sole.name
+            )));
+        }
+        Ok(Foot {
+            sensor: f.sensor,
+            sensor_joint: sensor.parent_joint.unwrap_or(0),
+            lowpass: (settings.ft_lowpass > 0.0).then(|| Butterworth2::new(settings.ft_lowpass)),
+            sole_frame: f.sole_frame,
+            sole_m_sensor: sole.placement.inverse() * sensor.placement,
+            anchor: None,
+            settled: false,
+            relative: Vector3::zeros(),
+            rate: Vector3::zeros(),
+            load: 0.0,
+        })
+    }
+}
+
 /// Base from leg odometry and the IMU (or direct), feet and ZMP from the F/T sensors.
 pub struct KinematicEstimator {
     model: Arc<Model>,
     data: Data,
     settings: EstimatorSettings,
     feet: Vec<Foot>,
+    /// Hands whose wrench is read as the feet's (no anchor, no odometry).
+    hands: Vec<Foot>,
     /// The IMU's joint and its placement in that joint's frame.
     imu: (usize, Se3),
     state: EstimatedState,
@@ -199,31 +239,7 @@ impl KinematicEstimator {
         };
         let feet = feet
             .iter()
-            .map(|f| {
-                let (sensor, sole) = (
-                    frame(f.sensor_frame, "foot sensor")?,
-                    frame(f.sole_frame, "sole")?,
-                );
-                if sensor.parent_joint != sole.parent_joint || sole.parent_joint.is_none() {
-                    return Err(EstimationError::Setup(format!(
-                        "the F/T sensor frame '{}' and the sole frame '{}' are not on one body",
-                        sensor.name, sole.name
-                    )));
-                }
-                Ok(Foot {
-                    sensor: f.sensor,
-                    sensor_joint: sensor.parent_joint.unwrap_or(0),
-                    lowpass: (settings.ft_lowpass > 0.0)
-                        .then(|| Butterworth2::new(settings.ft_lowpass)),
-                    sole_frame: f.sole_frame,
-                    sole_m_sensor: sole.placement.inverse() * sensor.placement,
-                    anchor: None,
-                    settled: false,
-                    relative: Vector3::zeros(),
-                    rate: Vector3::zeros(),
-                    load: 0.0,
-                })
-            })
+            .map(|f| Foot::new(&model, f, &settings))
             .collect::<Result<Vec<_>, _>>()?;
         let imu = frame(imu_frame, "IMU")?;
         let imu = (imu.parent_joint.unwrap_or(0), imu.placement);
@@ -242,6 +258,7 @@ impl KinematicEstimator {
                 })
                 .collect(),
             zmp: None,
+            hands: Vec::new(),
         };
         Ok(Self {
             data: Data::new(&model),
@@ -249,11 +266,32 @@ impl KinematicEstimator {
             model,
             settings,
             feet,
+            hands: Vec::new(),
             imu,
             state,
             base_velocity_world: Vector3::zeros(),
             last_time: None,
         })
+    }
+
+    /// Also reads `hands`: F/T sensors above a hand or a tool, each expressed in its contact
+    /// frame (given as the [`FootSensor`]'s sole frame) with the same compensation of the
+    /// weight below the sensor and the same filter as the feet; see [`EstimatedState::hands`].
+    pub fn with_hands(mut self, hands: &[FootSensor]) -> Result<Self, EstimationError> {
+        self.hands = hands
+            .iter()
+            .map(|h| Foot::new(&self.model, h, &self.settings))
+            .collect::<Result<Vec<_>, _>>()?;
+        self.state.hands = self
+            .hands
+            .iter()
+            .map(|_| FootEstimate {
+                placement: Se3::identity(),
+                wrench: Vector6::zeros(),
+                in_contact: false,
+            })
+            .collect();
+        Ok(self)
     }
 
     /// Joint positions and velocities of the readings into the estimate's q and v.
@@ -307,9 +345,14 @@ impl KinematicEstimator {
         Ok(())
     }
 
-    /// Each foot's wrench in its sole frame and its contact state, from the F/T readings.
+    /// Each foot's and hand's wrench in its contact frame and its contact state, from the F/T
+    /// readings.
     fn read_feet(&mut self, r: &Readings) -> Result<(), EstimationError> {
-        for (foot, estimate) in self.feet.iter_mut().zip(self.state.feet.iter_mut()) {
+        let (feet, hands) = (
+            self.feet.iter_mut().zip(self.state.feet.iter_mut()),
+            self.hands.iter_mut().zip(self.state.hands.iter_mut()),
+        );
+        for (foot, estimate) in feet.chain(hands) {
             let reading = r
                 .force_torque
                 .get(foot.sensor)
@@ -353,7 +396,11 @@ impl KinematicEstimator {
         )
         .map_err(|e| EstimationError::Setup(e.to_string()))?;
         s.com_velocity = self.data.vcom;
-        for (foot, estimate) in self.feet.iter().zip(s.feet.iter_mut()) {
+        let (feet, hands) = (
+            self.feet.iter().zip(s.feet.iter_mut()),
+            self.hands.iter().zip(s.hands.iter_mut()),
+        );
+        for (foot, estimate) in feet.chain(hands) {
             estimate.placement = frame_placement(&self.model, &self.data, foot.sole_frame)
                 .map_err(|e| EstimationError::Setup(e.to_string()))?;
         }
@@ -446,7 +493,7 @@ impl Estimator for KinematicEstimator {
         self.state.v.copy_from_slice(v);
         let r = rotation::quat_to_matrix(q[3], q[4], q[5], q[6]);
         self.base_velocity_world = r * Vector3::new(v[0], v[1], v[2]);
-        for foot in &mut self.feet {
+        for foot in self.feet.iter_mut().chain(self.hands.iter_mut()) {
             foot.anchor = None;
             foot.settled = false;
             if let Some(f) = &mut foot.lowpass {

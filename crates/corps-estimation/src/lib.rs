@@ -82,6 +82,10 @@ pub struct EstimatedState {
     pub feet: Vec<FootEstimate>,
     /// ZMP (world x, y) on the plane of the loaded soles; `None` when no foot is loaded.
     pub zmp: Option<Vector2<f64>>,
+    /// One per hand sensor ([`KinematicEstimator::with_hands`]), in their order: the wrench
+    /// the environment puts on the hand (or its tool) in the given frame, read as the feet's;
+    /// hands take no part in the odometry or the ZMP.
+    pub hands: Vec<FootEstimate>,
 }
 
 /// Sensor readings → estimated state, once per control tick, without allocating.

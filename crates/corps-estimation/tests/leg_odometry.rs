@@ -274,6 +274,57 @@ fn the_zmp_from_the_calibrated_ankle_sensors_is_the_simulators_and_the_feet_carr
     );
 }
 
+/// A hand's sensor is read as the feet's: the calibrated wrench in the contact frame. Reading
+/// the left ankle's sensor as a "hand" expressed at the left sole gives the left foot's
+/// wrench, in another frame the same wrench moved there, and a contact frame on another body
+/// than the sensor's is refused.
+#[test]
+fn a_hand_sensor_reads_as_a_foot_in_its_contact_frame() {
+    let mut b = standing_with(SensorNoise::default(), ForceTorqueModel::Transmitted);
+    let model = b.model.clone();
+    let frame = |name: &str| model.frame_id(name).unwrap();
+    let (sole, ankle) = (frame("leg_left_sole_fix_joint"), frame("leg_left_6_link"));
+    let hands = [
+        FootSensor {
+            sensor: 0,
+            sensor_frame: sole,
+            sole_frame: sole,
+        },
+        FootSensor {
+            sensor: 0,
+            sensor_frame: sole,
+            sole_frame: ankle,
+        },
+    ];
+    let mut est = estimator_with(&b.model, BaseSource::LegOdometry, true)
+        .with_hands(&hands)
+        .unwrap();
+    est.reset(b.q0.as_slice(), &vec![0.0; b.model.nv]).unwrap();
+    run(&mut b, &mut est, 0.2, true);
+    let s = est.state();
+    assert_eq!(s.hands.len(), 2);
+    assert!((s.hands[0].wrench - s.feet[0].wrench).norm() < 1e-9);
+    // The same wrench about the ankle frame: its force rotated, its moment moved.
+    let (foot, at_ankle) = (&s.feet[0], &s.hands[1]);
+    let world_force = foot.placement.rotation * foot.wrench.fixed_rows::<3>(0);
+    let world_moment = foot.placement.rotation * foot.wrench.fixed_rows::<3>(3)
+        + (foot.placement.translation - at_ankle.placement.translation).cross(&world_force);
+    let r = at_ankle.placement.rotation;
+    assert!((r * at_ankle.wrench.fixed_rows::<3>(0) - world_force).norm() < 1e-6);
+    assert!((r * at_ankle.wrench.fixed_rows::<3>(3) - world_moment).norm() < 1e-6);
+    let other_body = FootSensor {
+        sensor: 0,
+        sensor_frame: sole,
+        sole_frame: frame("imu_link"),
+    };
+    let e = estimator(&b.model, BaseSource::LegOdometry)
+        .with_hands(&[other_body])
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(e.contains("not on one body"), "{e}");
+}
+
 #[test]
 fn non_finite_readings_are_refused_and_the_estimate_is_held() {
     let mut b = standing(SensorNoise::default());

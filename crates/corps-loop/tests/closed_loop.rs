@@ -111,6 +111,7 @@ impl Copy {
                 com_velocity: Vector3::zeros(),
                 feet: vec![],
                 zmp: None,
+                hands: Vec::new(),
             },
         }
     }

@@ -29,6 +29,7 @@ pub const EMBEDDED: &[(&str, &str)] = embed!(
     "config/talos/tsid_torque_walk.toml",
     "config/talos/passive_torque.toml",
     "config/talos/passive_torque_walk.toml",
+    "config/talos/tsid_torque_force.toml",
     "config/talos/tsid_position.toml",
     "config/talos/ik_position.toml",
     "config/talos/walk_mpc.toml",

@@ -67,6 +67,7 @@ pub fn multibody_zmp_error(
         com: Vector3::zeros(),
         com_velocity: Vector3::zeros(),
         zmp: None,
+        hands: &[],
         feet: [Isometry3::identity(); 2],
         foot_wrenches: [Wrench::default(); 2],
     };

@@ -157,6 +157,27 @@ pub struct TsidGains {
     pub stabilizer: Option<StabilizerGains>,
     /// The global energy tank of the passive controller (`passive_torque`); absent: none.
     pub tank: Option<TankGains>,
+    /// The force task of a hand's contact (a scenario's `[press]`); absent: none.
+    pub force_contact: Option<ForceContactGains>,
+}
+
+/// `[force_contact]`: the PI+ force task on a hand's contact (seed 000 Table 5.2: Kp 10 on
+/// every component, K_I = 0.5 K_P, no K_D; Table 5.1: weight 10), and the integral's leak
+/// (seed 000 §3.9: 0.05 1/s).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ForceContactGains {
+    pub kp: f64,
+    pub ki: f64,
+    #[serde(default)]
+    pub kd: f64,
+    pub weight: f64,
+    #[serde(default = "leak")]
+    pub leak: f64,
+}
+
+fn leak() -> f64 {
+    0.05
 }
 
 /// `[tank]`: the passive controller's energy tank (seed 000 L6396–L6401: E_max 5 J, E_min
@@ -317,6 +338,17 @@ impl TsidGains {
         }
         if let Some(t) = &self.tank {
             t.tank()?;
+        }
+        if let Some(f) = &self.force_contact {
+            for (name, x) in [
+                ("kp", f.kp),
+                ("ki", f.ki),
+                ("kd", f.kd),
+                ("weight", f.weight),
+            ] {
+                check_non_negative(&format!("force_contact.{name}"), x)?;
+            }
+            check_non_negative("force_contact.leak", f.leak)?;
         }
         if !(c.mu > 0.0 && c.mu.is_finite()) {
             bail!("contacts.mu = {}: must be positive", c.mu);

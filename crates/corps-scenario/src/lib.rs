@@ -28,6 +28,7 @@ pub mod metrics;
 pub mod motion;
 pub mod numbers;
 pub mod pid_gains;
+pub mod press;
 pub mod pushes;
 pub mod run;
 pub mod scenario;

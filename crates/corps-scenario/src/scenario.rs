@@ -63,6 +63,8 @@ pub struct Scenario {
     /// How the controller learns the robot's state from its sensors (`corps run`).
     #[serde(default)]
     pub estimator: crate::estimation::EstimatorSection,
+    /// A tool in a hand pressing on a block (`corps run`, torque-mode TSID).
+    pub press: Option<crate::press::PressSection>,
 }
 
 fn completed() -> Verdict {
@@ -293,6 +295,9 @@ impl Scenario {
             c.check()?;
         }
         self.motion.check()?;
+        if let Some(p) = &self.press {
+            p.check()?;
+        }
         if let Some(name) = &self.name {
             if name.is_empty() || name.contains(['/', '\\']) || name == "." || name == ".." {
                 return Err(format!(

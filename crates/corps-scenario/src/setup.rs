@@ -34,6 +34,8 @@ pub struct Setup {
     pub q0: DVector<f64>,
     /// When the run counts as failed: the scenario's `[verdict]`, else the robot's `[fall]`.
     pub criteria: Criteria,
+    /// The tool and block of `[press]`, if any.
+    pub press: Option<crate::press::PressWorld>,
 }
 
 /// The scenario's robot: its description (default: TALOS), or a bare URDF for `corps sim`.
@@ -55,7 +57,7 @@ pub fn load_robot(scenario: &Scenario, base_dir: &Path) -> Result<(Option<Robot>
 /// Builds the world of `scenario`; relative robot paths are resolved from `base_dir` (the
 /// scenario file's directory).
 pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
-    let (robot, model) = load_robot(scenario, base_dir)?;
+    let (mut robot, mut model) = load_robot(scenario, base_dir)?;
     let init = &scenario.initial;
     let configuration = (init.configuration.as_deref())
         .or(robot.as_ref().map(|r| r.posture_name.as_str()))
@@ -72,7 +74,21 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         place_on_ground(&model, q0.as_mut_slice(), 0.0)
             .map_err(|e| invalid!("initial.place_on_ground: {e}"))?;
     }
-    let terrain = Terrain::preset(scenario.terrain.preset, scenario.terrain.mu);
+    let mut terrain = Terrain::preset(scenario.terrain.preset, scenario.terrain.mu);
+    let mut press = None;
+    if let Some(section) = &scenario.press {
+        let Some(r) = robot.as_mut() else {
+            bail!("press: needs a robot description with hands, not a bare URDF");
+        };
+        let (block, tip_frame, sensor) = crate::press::equip(r, section, &q0)?;
+        model = r.model.clone();
+        terrain.surfaces.push(block);
+        press = Some((
+            tip_frame,
+            r.force_torque[sensor].0.clone(),
+            terrain.surfaces.len() - 1,
+        ));
+    }
     check_clear_of_terrain(&model, &terrain, &q0, scenario.sim.contact.point_spacing)?;
 
     let act = &scenario.actuation;
@@ -150,6 +166,26 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         })
         .collect::<Result<Vec<_>>>()?;
 
+    let press = match (press, &scenario.press) {
+        (Some((tip_frame, sensor, block_surface)), Some(section)) => {
+            let hand_sensor = (layout.force_torque.iter())
+                .position(|(n, _)| *n == sensor)
+                .ok_or_else(|| {
+                    invalid!(
+                        "press.hand: its sensor '{sensor}' is not one of the force_torque sensors"
+                    )
+                })?;
+            let sensor_frame = model.frame_id(&layout.force_torque[hand_sensor].1)?;
+            Some(crate::press::PressWorld {
+                tip_frame,
+                hand_sensor,
+                sensor_frame,
+                block_surface,
+                section: section.clone(),
+            })
+        }
+        _ => None,
+    };
     let imu_frame = layout
         .imu
         .as_deref()
@@ -171,6 +207,7 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         imu_frame,
         ticks,
         q0,
+        press,
     })
 }
 

@@ -130,6 +130,8 @@ pub struct Simulator {
     anchors: Vec<Anchor>,
     actuators: Actuators,
     pushes: Vec<(Push, usize, Se3)>,
+    /// Surfaces to take out of the world: (time, index in `terrain.surfaces` now).
+    removals: Vec<(f64, usize)>,
     q: DVector<f64>,
     v: DVector<f64>,
     t: f64,
@@ -201,6 +203,7 @@ impl Simulator {
             points,
             bounds,
             pushes: Vec::new(),
+            removals: Vec::new(),
             q: DVector::from_column_slice(q0),
             v: DVector::zeros(nv),
             t: 0.0,
@@ -253,6 +256,50 @@ impl Simulator {
         self.first_stage_valid = false;
         self.implicit.prepared = false;
         Ok(())
+    }
+
+    /// Takes terrain surface `index` out of the world at time `time` (s, simulated): from the
+    /// first step that starts at or after it, nothing touches it (a block pulled away, a
+    /// contact lost without warning). The other surfaces keep their anchors.
+    pub fn remove_surface_at(&mut self, index: usize, time: f64) -> Result<()> {
+        let pending = self.removals.iter().filter(|(_, k)| *k == index).count();
+        if index >= self.terrain.surfaces.len() || pending > 0 {
+            return Err(SimError::Setting {
+                name: format!("removal of terrain surface {index}"),
+                reason: format!(
+                    "the world has surfaces 0..{}{}",
+                    self.terrain.surfaces.len(),
+                    if pending > 0 {
+                        " and this one is already to be removed"
+                    } else {
+                        ""
+                    }
+                ),
+            });
+        }
+        if !time.is_finite() {
+            return Err(SimError::Setting {
+                name: format!("removal of terrain surface {index}"),
+                reason: format!("time {time} is not finite"),
+            });
+        }
+        self.removals.push((time, index));
+        Ok(())
+    }
+
+    /// Removes the surfaces due by the current time; the later removals' indices follow.
+    fn remove_due_surfaces(&mut self) {
+        while let Some(k) = self.removals.iter().position(|(t, _)| *t <= self.t) {
+            let (_, index) = self.removals.swap_remove(k);
+            self.terrain.surfaces.remove(index);
+            for (_, later) in &mut self.removals {
+                if *later > index {
+                    *later -= 1;
+                }
+            }
+            self.first_stage_valid = false;
+            self.implicit.invalidate();
+        }
     }
 
     /// Sets the state (q, v), e.g. to start with a velocity. Clears contact anchors.
@@ -333,6 +380,7 @@ impl Simulator {
     /// it itself when it was not done; either way the step is bit-identical. Changes none of
     /// the state, contact or sensor readings.
     pub fn prepare_step(&mut self) {
+        self.remove_due_surfaces();
         if self.settings.integrator == Integrator::ImplicitEuler && !self.implicit.prepared {
             self.prepare_implicit(self.settings.dt());
         }
@@ -353,6 +401,7 @@ impl Simulator {
         }
         let h = self.settings.dt();
         for _ in 0..self.settings.substeps {
+            self.remove_due_surfaces();
             match self.settings.integrator {
                 Integrator::Rk4 => self.rk4(cmd, h),
                 Integrator::SemiImplicitEuler => self.euler(cmd, h),

@@ -279,3 +279,41 @@ fn a_bad_robot_description_is_one_line_and_writes_nothing() {
         assert!(!out.exists(), "{} was written", out.display());
     }
 }
+
+/// A `[press]` the run cannot do is one line naming what is wrong: a hand the robot lacks, a
+/// controller that cannot drive a contact force, gains without the force task, a bad
+/// schedule.
+#[test]
+fn a_press_scenario_the_run_cannot_do_is_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let press = "[press]\nhand = \"left\"\nforce = [[1.0, 10.0]]\n";
+    for (body, expected) in [
+        (
+            "[controller]\nkind = \"passive_torque\"\n[press]\nhand = \"middle\"\nforce = [[1.0, 10.0]]\n",
+            "no hand 'middle'",
+        ),
+        (
+            &format!("[controller]\nkind = \"ik_position\"\n{press}") as &str,
+            "torque-mode TSID",
+        ),
+        (
+            &format!("[controller]\nkind = \"tsid_torque\"\n{press}"),
+            "[force_contact]",
+        ),
+        (
+            "[controller]\nkind = \"passive_torque\"\n[press]\nhand = \"left\"\nforce = [[0.0, 10.0]]\n",
+            "press.force[0]",
+        ),
+        (
+            "[controller]\nkind = \"passive_torque\"\n[press]\nhand = \"left\"\nforce = [[1.0, 10.0]]\nloss_delay = -1.0\n",
+            "press.loss_delay",
+        ),
+    ] {
+        let path = dir.path().join("press.toml");
+        std::fs::write(&path, format!("duration = 1.0\n{body}")).unwrap();
+        let (ok, _, stderr) = corps(&["run", path.to_str().unwrap()]);
+        assert!(!ok, "{body}");
+        assert!(stderr.contains(expected), "{body}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    }
+}

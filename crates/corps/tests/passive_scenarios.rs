@@ -1,5 +1,5 @@
 //! The passive controller's scenarios (issue "Passive whole-body controller with a global
-//! energy tank", Deliver 2 and 4), run from `scenarios/passive/` as `corps run` runs them with
+//! energy tank", Deliver 2, 3 and 4), run from `scenarios/passive/` as `corps run` runs them with
 //! every tick logged: at every tick where the controller's QP answered, the power row holds,
 //! `Ḣ ≤ −q̇_jᵀτ + 1e-6 W` (log columns `h_dot_W`, `passivity_bound_W`), and the tank stays
 //! within `0 ≤ E_tank ≤ E_max + 1e-6 J` (`tank_energy_J`); and the controller never gives the
@@ -17,6 +17,31 @@ struct Logged {
     metrics: Metrics,
     rows: Vec<HashMap<String, f64>>,
 }
+
+/// The log columns the checks read (the others are not kept).
+const KEPT: [&str; 21] = [
+    "t",
+    "base_z",
+    "tank_energy_J",
+    "alpha",
+    "beta",
+    "gamma",
+    "b_sigma_W",
+    "b_phi_W",
+    "h_dot_W",
+    "passivity_bound_W",
+    "task_energy_J",
+    "spring_payment_J",
+    "port_energy_J",
+    "unpaid_J",
+    "joint_power_W",
+    "hand_force_ref_N",
+    "hand_force_N",
+    "hand_force_desired_N",
+    "hand_contact",
+    "tool_drop_m",
+    "beta_phi",
+];
 
 /// Runs `scenarios/passive/{name}.toml` with every tick logged.
 fn run(name: &str) -> Logged {
@@ -43,8 +68,9 @@ fn run(name: &str) -> Logged {
         .map(|l| {
             header
                 .iter()
-                .cloned()
-                .zip(l.split(',').map(|x| x.parse::<f64>().unwrap_or(f64::NAN)))
+                .zip(l.split(','))
+                .filter(|(h, _)| KEPT.contains(&h.as_str()))
+                .map(|(h, x)| (h.clone(), x.parse::<f64>().unwrap_or(f64::NAN)))
                 .collect()
         })
         .collect();
@@ -144,5 +170,113 @@ fn the_passive_1m_walk_keeps_the_power_bound_and_falls_short_of_the_thesis() {
         l.metrics.verdict.verdict,
         Verdict::Completed,
         "the walk now completes: move it to the thesis's checks"
+    );
+}
+
+/// The tank's row at `t` (the first logged at or after it).
+fn at(l: &Logged, t: f64) -> &HashMap<String, f64> {
+    l.rows
+        .iter()
+        .find(|r| r["t"] >= t - 1e-9)
+        .unwrap_or_else(|| panic!("no row at {t} s"))
+}
+
+/// Seed 000 §5.4.1 (Figs 5.4–5.6): the tool in the left hand tracks 10 N then 30 N on the
+/// block; when the block is pulled away at 32.3 s, γ closes at once (the force task and every
+/// reference are held back), the hand comes down slowly, the emergency action removes the
+/// contact and the task, and the robot does not fall; passivity holds at every tick. The
+/// event times are printed beside the thesis's (consumption peak 34.4 s, filling 20–30 s).
+#[test]
+fn the_passive_force_scenario_survives_the_block_removal() {
+    let l = run("force_contact");
+    assert_eq!(
+        l.metrics.verdict.verdict,
+        Verdict::Completed,
+        "{}",
+        l.metrics.verdict
+    );
+    assert_eq!(assert_passive(&l), 0, "no tick fell back");
+    // The force task tracks its plateaus (the schedule reaches 10 N at 5 s, 30 N at 20 s).
+    for (t, f) in [(14.0, 10.0), (31.0, 30.0)] {
+        let r = at(&l, t);
+        let (reference, measured) = (r["hand_force_ref_N"], r["hand_force_N"]);
+        assert!(reference == f, "reference {reference} N at {t} s");
+        assert!(
+            (measured - f).abs() < 0.05 * f,
+            "t = {t} s: measured {measured} N against {f} N"
+        );
+    }
+    const REMOVAL: f64 = 32.3;
+    let after = |pred: &dyn Fn(&HashMap<String, f64>) -> bool| {
+        l.rows
+            .iter()
+            .find(|r| r["t"] >= REMOVAL && pred(r))
+            .map(|r| r["t"])
+    };
+    let gamma_closed = after(&|r| r["gamma"] < 0.5).expect("γ closes");
+    let released = after(&|r| r["hand_contact"] == 0.0).expect("the contact is removed");
+    let drop_at = |t: f64| at(&l, t)["tool_drop_m"];
+    let lost = after(&|r| r["tool_drop_m"] > 0.02).expect("the tip drops 2 cm");
+    let holding = l
+        .rows
+        .iter()
+        .filter(|r| r["t"] >= REMOVAL && r["t"] < released);
+    let (lowest, highest) = holding.fold((f64::NEG_INFINITY, f64::INFINITY), |(lo, hi), r| {
+        (lo.max(r["tool_drop_m"]), hi.min(r["tool_drop_m"]))
+    });
+    // Consumption peak: the steepest fall of E_tank after the removal.
+    let mut peak = (0.0, f64::INFINITY);
+    for w in l.rows.windows(2).filter(|w| w[0]["t"] >= REMOVAL) {
+        let rate = (w[1]["tank_energy_J"] - w[0]["tank_energy_J"]) / (w[1]["t"] - w[0]["t"]);
+        if rate < peak.1 {
+            peak = (w[0]["t"], rate);
+        }
+    }
+    let filling = at(&l, 30.0)["tank_energy_J"] - at(&l, 20.0)["tank_energy_J"];
+    println!(
+        "block removed at {REMOVAL} s: γ < 0.5 at {gamma_closed:.3} s; the tool tip {:.1} mm \
+         below its contact 0.1 s later, 2 cm below at {lost:.3} s; while the contact is held \
+         the tip goes down to {:.1} mm below and up to {:.1} mm above it; contact and task \
+         removed at {released:.3} s (thesis 34.4 s); steepest tank consumption {:.1} W at \
+         {:.3} s (thesis: peak at 34.4 s); tank change over 20–30 s {filling:+.3} J (thesis: \
+         a steady rise); lowest base {:.3} m",
+        drop_at(REMOVAL + 0.1) * 1e3,
+        lowest * 1e3,
+        -highest * 1e3,
+        peak.1,
+        peak.0,
+        l.rows
+            .iter()
+            .map(|r| r["base_z"])
+            .fold(f64::INFINITY, f64::min),
+    );
+    assert!(
+        gamma_closed < REMOVAL + 0.1,
+        "γ closes within 0.1 s of the block's removal"
+    );
+}
+
+/// The same without the tank (plain TSID, same tasks and emergency action): the thesis's
+/// robot "quickly falls and cannot react in time" (L6440–L6445); corps' falls too, before its
+/// emergency action fires.
+#[test]
+fn the_force_scenario_without_the_tank_falls() {
+    let l = run("force_contact_no_tank");
+    assert_eq!(
+        l.metrics.verdict.verdict,
+        Verdict::Fell,
+        "{}",
+        l.metrics.verdict
+    );
+    let fell = l.metrics.verdict.t.expect("a time");
+    let released = l
+        .rows
+        .iter()
+        .find(|r| r["hand_contact"] == 0.0)
+        .map(|r| r["t"]);
+    println!("fell at {fell:.3} s; hand contact removed at {released:?} s");
+    assert!(
+        released.is_none_or(|t| t > fell),
+        "it falls before its emergency action"
     );
 }

@@ -154,9 +154,7 @@ impl EnergyTank {
         } else {
             1.0
         };
-        let empty = 1.0 - smooth_step(self.energy, p.e_min, p.energy_width);
-        let draining = 1.0 - smooth_step(gamma * b_sigma - b_phi, -p.power_width, p.power_width);
-        let beta = 1.0 - empty * draining;
+        let beta = self.beta_at(self.energy, gamma, b_sigma, b_phi);
         let below_min = 1.0 - smooth_step(self.energy, 0.0, p.e_min);
         let beta_phi = 1.0 - below_min * smooth_step(b_phi, 0.0, p.power_width);
         let full = smooth_step(self.energy, p.e_max - p.energy_width, p.energy_width);
@@ -171,6 +169,15 @@ impl EnergyTank {
             gamma,
             beta_phi,
         }
+    }
+
+    /// β (Eq 5.21, smoothed) were the tank at `energy`: closed at E_min while the tasks
+    /// would drain it (γB_σ − B_φ < 0), open from E_min + `energy_width` or while they fill.
+    pub fn beta_at(&self, energy: f64, gamma: f64, b_sigma: f64, b_phi: f64) -> f64 {
+        let p = &self.params;
+        let empty = 1.0 - smooth_step(energy, p.e_min, p.energy_width);
+        let draining = 1.0 - smooth_step(gamma * b_sigma - b_phi, -p.power_width, p.power_width);
+        1.0 - empty * draining
     }
 
     /// Ė_tank = (1 − α)(βγ B_σ − β_φ B_φ) (Eq 5.22).

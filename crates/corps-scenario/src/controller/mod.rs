@@ -4,10 +4,12 @@
 //! - C, `tsid_torque`: TSID's inverse dynamics at the measured state, joint torques;
 //! - `passive_torque`: C under a global energy tank (seed 000 ch. 5), its gains file's `[tank]`.
 
+mod hand_press;
 mod ik;
 mod stabilized;
 mod tsid;
 
+pub use hand_press::HAND_CHANNELS;
 pub use ik::IkController;
 pub use stabilized::{behind_stabilizer, Stabilized};
 pub use tsid::{TsidController, TsidMode};
@@ -101,9 +103,9 @@ impl ControllerKind {
 }
 
 /// What the robot's sensors tell the controllers besides (q, v): the quantities a base
-/// estimator and the feet's force/torque sensors give.
+/// estimator and the feet's and hands' force/torque sensors give.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Measured {
+pub struct Measured<'a> {
     pub com: Vector3<f64>,
     pub com_velocity: Vector3<f64>,
     /// ZMP on the contact plane (world x, y); None in the air.
@@ -112,6 +114,9 @@ pub struct Measured {
     pub feet: [Isometry3<f64>; 2],
     /// Ground-on-foot wrenches in each sole frame, about its origin.
     pub foot_wrenches: [Wrench; 2],
+    /// The hands the estimator reads (a `[press]` tool's), their wrenches in their contact
+    /// frames.
+    pub hands: &'a [corps_estimation::FootEstimate],
 }
 
 /// A whole-body controller of a scenario.
@@ -124,7 +129,7 @@ pub trait WholeBodyController: Send {
         q: &[f64],
         v: &[f64],
         targets: &Targets,
-        measured: &Measured,
+        measured: &Measured<'_>,
     ) -> Option<FallbackReason>;
     /// The command of the last tick.
     fn command(&self) -> &Command;
@@ -137,8 +142,8 @@ pub trait WholeBodyController: Send {
         None
     }
     /// Names of the controller's own log columns (the energy tank's signals, say).
-    fn channels(&self) -> &'static [&'static str] {
-        &[]
+    fn channels(&self) -> Vec<&'static str> {
+        Vec::new()
     }
     /// Appends the values of [`Self::channels`] for the last tick to `row`.
     fn push_channels(&self, _row: &mut Vec<f64>) {}
@@ -161,7 +166,7 @@ impl ScenarioController {
     }
 
     /// The controller's own log columns.
-    pub fn channels(&self) -> &'static [&'static str] {
+    pub fn channels(&self) -> Vec<&'static str> {
         self.inner.channels()
     }
 
@@ -188,6 +193,7 @@ impl Controller for ScenarioController {
                     Vector3::new(w[3], w[4], w[5]),
                 )
             }),
+            hands: &est.hands,
         };
         self.inner
             .tick(t, est.q.as_slice(), est.v.as_slice(), targets, &measured)

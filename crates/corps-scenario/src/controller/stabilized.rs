@@ -199,7 +199,7 @@ impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C>
         self.output.as_ref()
     }
 
-    fn channels(&self) -> &'static [&'static str] {
+    fn channels(&self) -> Vec<&'static str> {
         self.inner.channels()
     }
 

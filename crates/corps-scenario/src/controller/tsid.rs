@@ -39,9 +39,11 @@
 //! 0.018) while the model's stays within 0.032 and 0.019 rad. The waist weight is not it
 //! (1000 instead of 1: ZMP x 43.6/309.3, y 33.4/236.0 mm).
 
+use super::hand_press::{HandPress, HAND_CHANNELS};
 use super::WholeBodyController;
 use crate::error::Result;
 use crate::gains::TsidGains;
+use crate::press::PressSection;
 use crate::targets::Targets;
 use corps_control::contacts::Contact;
 use corps_control::formulation::{InverseDynamics, PassiveInverseDynamics};
@@ -90,6 +92,8 @@ pub struct TsidController {
     command: Command,
     /// The energy tank over the QP (the passive controller, torque mode).
     passive: Option<PassiveInverseDynamics>,
+    /// A hand's tool pressing on a surface (torque mode).
+    hand: Option<HandPress>,
 }
 
 /// The energy tank's log columns (seed 000 §4.5's figures): E_tank at the start of the tick,
@@ -237,7 +241,33 @@ impl TsidController {
             gains,
             model,
             passive,
+            hand: None,
         })
+    }
+
+    /// Holds the tool tip `frame` on the surface it touches and presses as `section` says
+    /// ([`HandPress`]); torque mode only.
+    pub fn with_press(mut self, frame: usize, section: &PressSection) -> Result<Self> {
+        if self.mode != TsidMode::Torque {
+            crate::error::bail!(
+                "press: the force task drives the contact force, which only torque mode applies"
+            );
+        }
+        let hand = HandPress::new(
+            &self.model,
+            &mut self.id,
+            &self.state,
+            frame,
+            section,
+            &self.gains,
+        )?;
+        self.hand = Some(hand);
+        Ok(self)
+    }
+
+    /// When the hand's contact was removed (s since the handover), if it was.
+    pub fn hand_released_at(&self) -> Option<f64> {
+        self.hand.as_ref().and_then(|h| h.released_at)
     }
 
     /// Adds or removes foot contacts and swing-foot tasks where the targets changed.
@@ -319,10 +349,17 @@ impl WholeBodyController for TsidController {
         q: &[f64],
         v: &[f64],
         targets: &Targets,
-        _measured: &super::Measured,
+        measured: &super::Measured,
     ) -> Option<FallbackReason> {
         if let Err(reason) = self.switch_contacts(t, targets) {
             return Some(reason);
+        }
+        if let Some(hand) = &mut self.hand {
+            let wrench = measured.hands.first().map(|h| &h.wrench);
+            let model = &self.model;
+            if let Err(reason) = hand.update(t, self.dt, model, &mut self.id, &self.state, wrench) {
+                return Some(reason);
+            }
         }
         self.set_references(targets);
         let model = self.model.clone();
@@ -346,6 +383,9 @@ impl WholeBodyController for TsidController {
                 };
                 if let Command::Torque(tau) = &mut self.command {
                     tau.copy_from(&self.tau);
+                }
+                if let Some(hand) = &mut self.hand {
+                    hand.after_tick(&self.id);
                 }
                 reason
             }
@@ -394,11 +434,15 @@ impl WholeBodyController for TsidController {
         self.state.data.com
     }
 
-    fn channels(&self) -> &'static [&'static str] {
-        match self.passive {
-            Some(_) => &TANK_CHANNELS,
-            None => &[],
+    fn channels(&self) -> Vec<&'static str> {
+        let mut names = Vec::new();
+        if self.passive.is_some() {
+            names.extend(TANK_CHANNELS);
         }
+        if self.hand.is_some() {
+            names.extend(HAND_CHANNELS);
+        }
+        names
     }
 
     fn push_channels(&self, row: &mut Vec<f64>) {
@@ -419,6 +463,9 @@ impl WholeBodyController for TsidController {
                 s.port_energy,
                 s.unpaid,
             ]);
+        }
+        if let Some(h) = &self.hand {
+            row.extend(h.channels());
         }
     }
 }

@@ -27,8 +27,14 @@ pub(crate) struct ContactSample {
 
 /// The contact plane's height, each foot's vertical force and wrench in its sole frame
 /// `soles[k]` about the sole origin (feet are the bodies of `foot_joints`), the force on
-/// other bodies and the total.
-pub(crate) fn measure(truth: &Truth, foot_joints: &[usize; 2], soles: &[Se3; 2]) -> ContactSample {
+/// other bodies and the total. Contact on the body of `tool_joint` (a `[press]` tool, which
+/// is meant to touch) counts in the total only.
+pub(crate) fn measure(
+    truth: &Truth,
+    foot_joints: &[usize; 2],
+    tool_joint: Option<usize>,
+    soles: &[Se3; 2],
+) -> ContactSample {
     let (mut fz, mut zf) = (0.0, 0.0);
     let mut foot_fz = [0.0; 2];
     let mut world = [(Vector3::zeros(), Vector3::zeros()); 2];
@@ -37,6 +43,9 @@ pub(crate) fn measure(truth: &Truth, foot_joints: &[usize; 2], soles: &[Se3; 2])
     for c in &truth.contacts {
         let (f, p) = (&c.force, &c.position);
         total += f;
+        if Some(c.joint) == tool_joint {
+            continue;
+        }
         fz += f.z;
         zf += p.z * f.z;
         match foot_joints.iter().position(|j| *j == c.joint) {

@@ -109,6 +109,7 @@ impl ScenarioRun {
             q0,
             feet: foot_sensors,
             imu_frame,
+            press,
             ..
         } = setup::build(scenario, base_dir)?;
         let Some(robot) = robot else {
@@ -144,6 +145,11 @@ impl ScenarioRun {
         for push in pushes {
             sim.add_push(push)?;
         }
+        if let Some(p) = &press {
+            if let Some(at) = p.section.block.removed_at {
+                sim.remove_surface_at(p.block_surface, handover + at)?;
+            }
+        }
         let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
         let mass = model.total_mass();
         let (inner, stabilized) = match section.kind {
@@ -167,8 +173,11 @@ impl ScenarioRun {
                     _ => {}
                 }
                 let stabilizer = g.stabilizer.clone();
-                let inner =
+                let mut inner =
                     TsidController::new(&robot, mode, g, dt, &q, &v, &q0).context("controller")?;
+                if let Some(p) = &press {
+                    inner = inner.with_press(p.tip_frame, &p.section)?;
+                }
                 if mode == TsidMode::Torque && stabilizer.is_some() {
                     bail!("controller.gains: [stabilizer] is for the position-mode controllers")
                 }
@@ -180,6 +189,9 @@ impl ScenarioRun {
                 let g: gains::IkGainsFile =
                     gains::load(&source, &section.set).context("controller.gains")?;
                 let stabilizer = g.stabilizer.clone();
+                if press.is_some() {
+                    bail!("press: the force task needs a torque-mode TSID controller, not the IK");
+                }
                 let inner = IkController::new(&robot, g, dt, &q, &q0).context("controller")?;
                 let ctrl = behind_stabilizer(inner, stabilizer.as_ref(), soles[0], mass, dt)
                     .context("controller.gains.stabilizer")?;
@@ -191,6 +203,7 @@ impl ScenarioRun {
                 .map(|j| model.joints[j].idx_v - model.first_actuated())
         });
         let soles = soles.map(|f| f.frame);
+        let tool_joint = (press.as_ref()).and_then(|p| model.frames[p.tip_frame].parent_joint);
         let foot_joints = soles.map(|f| model.frames[f].parent_joint.unwrap_or(usize::MAX));
         let mut estimator = estimation::build(
             &scenario.estimator,
@@ -201,6 +214,14 @@ impl ScenarioRun {
             scenario.sim.gravity,
             scenario.force_torque_model == corps_sim::ForceTorqueModel::Transmitted,
         )?;
+        if let Some(p) = &press {
+            let hand = corps_estimation::FootSensor {
+                sensor: p.hand_sensor,
+                sensor_frame: p.sensor_frame,
+                sole_frame: p.tip_frame,
+            };
+            estimator = estimator.with_hands(&[hand])?;
+        }
         corps_estimation::Estimator::reset(&mut estimator, q.as_slice(), v.as_slice())?;
         let (model_ref, data) = (sim.model(), sim.data());
         let (com0, _) = com_at_placements(model_ref, data);
@@ -278,6 +299,7 @@ impl ScenarioRun {
                 model,
                 soles,
                 foot_joints,
+                tool_joint,
                 ankles,
                 base0,
                 walking_window,

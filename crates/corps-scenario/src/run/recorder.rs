@@ -25,6 +25,8 @@ pub(crate) struct RecorderSetup {
     /// Sole frames and the joints of the feet's bodies, left then right.
     pub soles: [usize; 2],
     pub foot_joints: [usize; 2],
+    /// The body of a `[press]` tool, whose contact is meant.
+    pub tool_joint: Option<usize>,
     /// Each ankle's (roll, pitch) joints as actuated indices, for the gait measure.
     pub ankles: [[usize; 2]; 2],
     pub base0: Vector3<f64>,
@@ -100,7 +102,7 @@ impl Observer<ScenarioController> for Recorder<'_, '_> {
         let s = &self.setup;
         let t = tick.t;
         let placements = s.soles.map(|f| truth.frame_placement(&s.model, f));
-        let mut contact = contacts::measure(truth, &s.foot_joints, &placements);
+        let mut contact = contacts::measure(truth, &s.foot_joints, s.tool_joint, &placements);
         let (w, w_pos, joint_power) = work(truth, &s.model, s.dt);
         let walking = self.walking(t);
         let m = &mut self.metrics;

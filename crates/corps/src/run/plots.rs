@@ -192,5 +192,36 @@ pub fn write(
         ];
         figure("tank.png", format!("{title}: energy tank"), panels, 2);
     }
+    // A hand's force task (a `[press]` scenario; seed 000 Fig 5.4).
+    if header.iter().any(|h| h == "hand_force_N") {
+        let panels = vec![
+            Panel::new(
+                "hand force along the contact normal",
+                "N",
+                vec![
+                    ("reference F*".into(), column("hand_force_ref_N")?),
+                    ("measured (filtered)".into(), column("hand_force_N")?),
+                    ("asked of the QP".into(), column("hand_force_desired_N")?),
+                    ("QP's solution".into(), column("hand_force_qp_N")?),
+                ],
+            ),
+            Panel::new(
+                "tool tip below its contact point (< 0: above)",
+                "m",
+                vec![("drop".into(), column("tool_drop_m")?)],
+            ),
+            Panel::new(
+                "hand contact held",
+                "",
+                vec![("contact".into(), column("hand_contact")?)],
+            ),
+        ];
+        figure(
+            "hand_force.png",
+            format!("{title}: hand force task"),
+            panels,
+            1,
+        );
+    }
     draw_figures(t, &figures)
 }
