@@ -30,7 +30,7 @@ out=$(mktemp -d)
     echo "## $name"
     echo
     echo '```text'
-    if ! ./target/release/corps run "$f" -o "$out/$name" 2>&1 | grep -v -E "^  (wrote|  )"; then
+    if ! ./target/release/corps run "$f" -o "$out/$name" 2>&1 | grep -v -E "^  (wrote|  )|^corps: +[0-9]+% \(t = "; then
       echo "(the run stopped with an error)"
     fi
     echo '```'

@@ -196,12 +196,14 @@ pub struct PressWorld {
 }
 
 /// Adds the tool (collision cylinder and tip frame) of `section` to the robot's model at the
-/// starting configuration `q0`, and returns the block to add to the terrain, the tip frame
-/// and the hand's sensor. The robot's model is replaced by the equipped one.
+/// starting configuration `q0`, and returns the block (friction coefficient `mu`) to add to
+/// the terrain, the tip frame and the hand's sensor. The robot's model is replaced by the
+/// equipped one.
 pub fn equip(
     robot: &mut Robot,
     section: &PressSection,
     q0: &DVector<f64>,
+    mu: f64,
 ) -> Result<(Surface, usize, usize)> {
     section.check().map_err(|e| invalid!("{e}"))?;
     let Some(hand) = robot.hands.iter().find(|h| h.label == section.hand) else {
@@ -279,7 +281,7 @@ pub fn equip(
             Vector3::new(tip_world.x, tip_world.y, bottom + half_height),
         ),
         half_extents: Vector3::new(sx / 2.0, sy / 2.0, half_height),
-        mu: 0.8,
+        mu,
     };
     Ok((block, tip_frame, hand_sensor))
 }

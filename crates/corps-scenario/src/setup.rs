@@ -80,7 +80,7 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         let Some(r) = robot.as_mut() else {
             bail!("press: needs a robot description with hands, not a bare URDF");
         };
-        let (block, tip_frame, sensor) = crate::press::equip(r, section, &q0)?;
+        let (block, tip_frame, sensor) = crate::press::equip(r, section, &q0, scenario.terrain.mu)?;
         model = r.model.clone();
         terrain.surfaces.push(block);
         press = Some((
