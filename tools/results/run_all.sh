@@ -86,6 +86,7 @@ out=$(mktemp -d)
   cat tools/results/shortfall_causes.md
   cat tools/results/passive.md
   python3 tools/results/passive_robustness.py --corps ./target/release/corps
+  cat tools/results/human_prediction.md
   cat tools/results/bad_input.md
 } > RESULTS.md.partial
 mv RESULTS.md.partial RESULTS.md

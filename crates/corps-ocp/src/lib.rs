@@ -5,11 +5,15 @@
 //! forward pass, the scheme of Crocoddyl's `SolverDDP`, Mastalli et al. ICRA 2020).
 //!
 //! [`human_walk`] is the optimal-control model of a person walking to a goal that seed 000
-//! §3.17 uses to predict the person's path (Maroger et al., IROS 2020 and RA-L 2021).
+//! §3.17 uses to predict the person's path (Maroger et al., IROS 2020 and RA-L 2021);
+//! [`prediction`] predicts the rest of a walk from its last samples with it, and
+//! [`recorded_walks`] reads the recorded walks of that work's data set.
 
 mod ddp;
 mod error;
 pub mod human_walk;
+pub mod prediction;
+pub mod recorded_walks;
 
 pub use ddp::{ActionDerivatives, ActionModel, Ddp, DdpSettings, DdpSolution, TerminalCost};
 pub use error::OcpError;
