@@ -8,7 +8,7 @@
 
 use crate::ddp::{ActionModel, Ddp, DdpSettings};
 use crate::error::OcpError;
-use crate::human_walk::{wrap_angle, HumanWalkEnd, HumanWalkStep, DT};
+use crate::human_walk::{HumanWalkEnd, HumanWalkStep, DT};
 use nalgebra::DVector;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
@@ -47,24 +47,20 @@ pub fn predict(
         return Err(OcpError::Invalid("non-finite pose or goal".into()));
     }
     // The recorded heading swings with the gait (the pelvis'): the state starts on the path
-    // instead, heading along the window's displacement at its mean speed (no sideways speed),
-    // turning at the rate between its two halves' directions.
-    let (first, mid, last) = (window[0], window[(n - 1) / 2], window[n - 1]);
+    // instead, heading along the window's displacement at its mean speed, with no sideways
+    // speed and no turn rate. (A turn rate from the window's two halves is mostly the gait's
+    // sway: on the shared walks it doubled the prediction's mean error, 0.334 against
+    // 0.159 m at a quarter of the walk; from a 10-sample window it sent predictions 57 m off.)
+    let (first, last) = (window[0], window[n - 1]);
     let span = (n - 1) as f64 * sample_dt;
-    let direction = |a: [f64; 3], b: [f64; 3]| (b[1] - a[1]).atan2(b[0] - a[0]);
     let speed = (last[0] - first[0]).hypot(last[1] - first[1]) / span;
-    let heading = direction(first, last);
-    let omega = if n >= 3 {
-        wrap_angle(direction(mid, last) - direction(first, mid)) / (0.5 * span)
-    } else {
-        0.0
-    };
+    let heading = (last[1] - first[1]).atan2(last[0] - first[0]);
     // The source's heading term atan2(·) − θ is not wrapped: start with θ on the branch of
     // the direction to the goal, and give the poses back on the measured heading's.
     let to_goal = (goal[1] - last[1]).atan2(goal[0] - last[0]);
     let shift = 2.0 * PI * ((to_goal - heading) / (2.0 * PI)).round();
     let theta = heading + shift;
-    let x0 = DVector::from_vec(vec![last[0], last[1], theta, speed, omega, 0.0]);
+    let x0 = DVector::from_vec(vec![last[0], last[1], theta, speed, 0.0, 0.0]);
     let step = HumanWalkStep::new(goal);
     let end = HumanWalkEnd::new(goal);
     let settings = DdpSettings::default();
