@@ -6,7 +6,7 @@
 //! iterations, 1e4 after), here by a golden-section search over the integers instead of
 //! their Nelder–Mead on a real number rounded down.
 
-use crate::ddp::{ActionModel, Ddp, DdpSettings};
+use crate::ddp::{ActionModel, Ddp, DdpSettings, DdpSolution};
 use crate::error::OcpError;
 use crate::human_walk::{HumanWalkEnd, HumanWalkStep, DT};
 use nalgebra::DVector;
@@ -64,10 +64,11 @@ pub fn predict(
     let step = HumanWalkStep::new(goal);
     let end = HumanWalkEnd::new(goal);
     let settings = DdpSettings::default();
-    let mut solved = BTreeMap::new();
-    let mut solve = |nodes: usize| -> Result<(f64, bool), OcpError> {
-        if let Some(r) = solved.get(&nodes) {
-            return Ok(*r);
+    // Each horizon's score and optimum, solved once.
+    let mut solved: BTreeMap<usize, (f64, DdpSolution)> = BTreeMap::new();
+    let mut solve = |nodes: usize| -> Result<f64, OcpError> {
+        if let Some((score, _)) = solved.get(&nodes) {
+            return Ok(*score);
         }
         let running: Vec<&dyn ActionModel> = vec![&step; nodes];
         let sol = Ddp::solve(&x0, &running, &end, None, &settings)?;
@@ -79,9 +80,8 @@ pub fn predict(
             (false, true) => 10.0 * per_node,
             (false, false) => 1e4,
         };
-        let r = (score, sol.converged);
-        solved.insert(nodes, r);
-        Ok(r)
+        solved.insert(nodes, (score, sol));
+        Ok(score)
     };
     let distance = (goal[0] - last[0]).hypot(goal[1] - last[1]);
     let guess = ((distance / GUESS_SPEED / DT).ceil() as usize).max(2);
@@ -91,7 +91,7 @@ pub fn predict(
         let third = (hi - lo) as f64 * 0.381_966;
         let (a, b) = (lo + third.round() as usize, hi - third.round() as usize);
         let (a, b) = (a.min(b.saturating_sub(1)).max(lo), b.max(a + 1).min(hi));
-        if solve(a)?.0 <= solve(b)?.0 {
+        if solve(a)? <= solve(b)? {
             hi = b;
         } else {
             lo = a;
@@ -99,13 +99,14 @@ pub fn predict(
     }
     let mut best = lo;
     for nodes in lo..=hi {
-        if solve(nodes)?.0 < solve(best)?.0 {
+        if solve(nodes)? < solve(best)? {
             best = nodes;
         }
     }
     let solves = solved.len();
-    let running: Vec<&dyn ActionModel> = vec![&step; best];
-    let sol = Ddp::solve(&x0, &running, &end, None, &settings)?;
+    let (_, sol) = solved
+        .remove(&best)
+        .ok_or_else(|| OcpError::Invalid("no horizon was solved".into()))?;
     Ok(Prediction {
         poses: sol.xs.iter().map(|x| [x[0], x[1], x[2] - shift]).collect(),
         nodes: best,

@@ -66,7 +66,7 @@ fn every_recorded_walk_is_predicted_and_the_errors_are_reported() {
                 let window = &walk.poses[k + 1 - WINDOW..=k];
                 let p = predict(window, walk.dt, goal)
                     .unwrap_or_else(|e| panic!("{} subject {}: {e}", path.display(), walk.subject));
-                solves += p.solves + 1;
+                solves += p.solves;
                 assert!(p.poses.iter().flatten().all(|v| v.is_finite()));
                 let rest = &walk.poses[k..];
                 let mean = p

@@ -84,6 +84,7 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         model = r.model.clone();
         terrain.surfaces.push(block);
         press = Some((
+            section,
             tip_frame,
             r.force_torque[sensor].0.clone(),
             terrain.surfaces.len() - 1,
@@ -166,8 +167,8 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         })
         .collect::<Result<Vec<_>>>()?;
 
-    let press = match (press, &scenario.press) {
-        (Some((tip_frame, sensor, block_surface)), Some(section)) => {
+    let press = match press {
+        Some((section, tip_frame, sensor, block_surface)) => {
             let hand_sensor = (layout.force_torque.iter())
                 .position(|(n, _)| *n == sensor)
                 .ok_or_else(|| {
@@ -184,7 +185,7 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
                 section: section.clone(),
             })
         }
-        _ => None,
+        None => None,
     };
     let imu_frame = layout
         .imu

@@ -7,6 +7,7 @@
 
 use corps::run::{run_file, Metrics, RunOptions};
 use corps_loop::verdict::Verdict;
+use corps_scenario::controller::{HAND_CHANNELS, TANK_CHANNELS};
 use std::collections::HashMap;
 use std::path::PathBuf;
 
@@ -18,30 +19,16 @@ struct Logged {
     rows: Vec<HashMap<String, f64>>,
 }
 
-/// The log columns the checks read (the others are not kept).
-const KEPT: [&str; 21] = [
-    "t",
-    "base_z",
-    "tank_energy_J",
-    "alpha",
-    "beta",
-    "gamma",
-    "b_sigma_W",
-    "b_phi_W",
-    "h_dot_W",
-    "passivity_bound_W",
-    "task_energy_J",
-    "spring_payment_J",
-    "port_energy_J",
-    "unpaid_J",
-    "joint_power_W",
-    "hand_force_ref_N",
-    "hand_force_N",
-    "hand_force_desired_N",
-    "hand_contact",
-    "tool_drop_m",
-    "beta_phi",
-];
+/// The log columns the checks read besides the controller's own (the others are not kept).
+const KEPT: [&str; 3] = ["t", "base_z", "joint_power_W"];
+
+/// Whether the checks keep column `name`: [`KEPT`], the energy tank's and the hand's.
+fn kept(name: &str) -> bool {
+    KEPT.iter()
+        .chain(&TANK_CHANNELS)
+        .chain(&HAND_CHANNELS)
+        .any(|c| *c == name)
+}
 
 /// Runs `scenarios/passive/{name}.toml` with every tick logged.
 fn run(name: &str) -> Logged {
@@ -69,7 +56,7 @@ fn run(name: &str) -> Logged {
             header
                 .iter()
                 .zip(l.split(','))
-                .filter(|(h, _)| KEPT.contains(&h.as_str()))
+                .filter(|(h, _)| kept(h))
                 .map(|(h, x)| (h.clone(), x.parse::<f64>().unwrap_or(f64::NAN)))
                 .collect()
         })
@@ -135,12 +122,7 @@ fn assert_passive(l: &Logged) -> usize {
 #[test]
 fn the_passive_stand_keeps_the_power_bound_at_every_tick() {
     let l = run("stand");
-    assert_eq!(
-        l.metrics.verdict.verdict,
-        Verdict::Completed,
-        "{}",
-        l.metrics.verdict
-    );
+    assert_completed(&l);
     assert_eq!(assert_passive(&l), 0, "no tick fell back");
     assert!(
         l.metrics.base_drift < 1e-3,
@@ -173,6 +155,16 @@ fn the_passive_1m_walk_keeps_the_power_bound_and_falls_short_of_the_thesis() {
     );
 }
 
+/// The run ended `completed`.
+fn assert_completed(l: &Logged) {
+    assert_eq!(
+        l.metrics.verdict.verdict,
+        Verdict::Completed,
+        "{}",
+        l.metrics.verdict
+    );
+}
+
 /// The tank's row at `t` (the first logged at or after it).
 fn at(l: &Logged, t: f64) -> &HashMap<String, f64> {
     l.rows
@@ -189,12 +181,7 @@ fn at(l: &Logged, t: f64) -> &HashMap<String, f64> {
 #[test]
 fn the_passive_force_scenario_survives_the_block_removal() {
     let l = run("force_contact");
-    assert_eq!(
-        l.metrics.verdict.verdict,
-        Verdict::Completed,
-        "{}",
-        l.metrics.verdict
-    );
+    assert_completed(&l);
     assert_eq!(assert_passive(&l), 0, "no tick fell back");
     // The force task tracks its plateaus (the schedule reaches 10 N at 5 s, 30 N at 20 s).
     for (t, f) in [(14.0, 10.0), (31.0, 30.0)] {
