@@ -33,6 +33,7 @@ pub const EMBEDDED: &[(&str, &str)] = embed!(
     "config/talos/tsid_position.toml",
     "config/talos/ik_position.toml",
     "config/talos/walk_mpc.toml",
+    "config/talos/actuators/elbow.toml",
     "robots/icub_description/icub.toml",
     "robots/icub_description/robots/icub.urdf",
     "robots/icub_description/srdf/icub.srdf",

@@ -2,6 +2,7 @@
 //! metrics, plots), progress and printing around the libraries (`corps-scenario` runs the
 //! scenarios, `corps-loop` closes the loop). Tests drive the same code the command runs.
 
+pub mod actuator_cmd;
 pub mod interrupt;
 pub mod output;
 pub mod progress;

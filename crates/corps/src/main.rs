@@ -4,7 +4,7 @@
 mod model_cmd;
 mod robot_cmd;
 
-use corps::{run, sim_cmd};
+use corps::{actuator_cmd, run, sim_cmd};
 
 use clap::{Parser, Subcommand};
 
@@ -34,6 +34,9 @@ enum Command {
     /// Run a whole-body controller on the simulated robot (TOML scenario): print the metrics,
     /// write the log, metrics and plots.
     Run(run::RunArgs),
+    /// Joint actuators (seed 000 ch. 3): identification, thermal model, current-limiting MPC.
+    #[command(subcommand)]
+    Actuator(actuator_cmd::ActuatorCommand),
 }
 
 fn main() {
@@ -45,6 +48,7 @@ fn main() {
         Some(Command::Robot(cmd)) => robot_cmd::run(cmd),
         Some(Command::Sim(args)) => sim_cmd::run(args),
         Some(Command::Run(args)) => run::run(args),
+        Some(Command::Actuator(cmd)) => actuator_cmd::run(cmd),
     };
     if let Err(e) = result {
         if let Some(stop) = e.downcast_ref::<corps::interrupt::Interrupted>() {
