@@ -74,6 +74,36 @@ pub struct Description {
     /// When a run of this robot counts as fallen or diverged (absent keys: corps' defaults).
     #[serde(default)]
     pub fall: Criteria,
+    /// The joint drives a scenario simulates with `[actuation] drives = true` (absent: ideal
+    /// torques only).
+    pub drives: Option<DrivesSpec>,
+}
+
+/// Flexible joint drives with a current-controlled motor (seed 000 Eq 2.33–2.34), the same
+/// parameters on every actuated joint except those listed `ideal`.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DrivesSpec {
+    /// Motor inertia through the gear ratio, kg·m².
+    pub motor_inertia: f64,
+    /// Drive stiffness, N·m/rad, and damping, N·m·s/rad.
+    pub stiffness: f64,
+    pub damping: f64,
+    /// Motor and joint friction together: viscous (N·m·s/rad), dry (N·m), and the velocity
+    /// of the dry friction's tanh (rad/s).
+    pub viscous_friction: f64,
+    pub dry_friction: f64,
+    pub friction_velocity: f64,
+    /// `R K_m`, N·m/A.
+    pub drive_gain: f64,
+    /// Motor current limit, A (absent: each joint's effort limit over `drive_gain`).
+    pub current_limit: Option<f64>,
+    /// Torque-loop bandwidth, Hz, and command delay, control periods.
+    pub bandwidth_hz: f64,
+    pub delay_periods: usize,
+    /// Joints kept on ideal torques.
+    #[serde(default)]
+    pub ideal: Vec<String>,
 }
 
 /// A frame added to the model, rigidly attached to an existing frame.

@@ -21,6 +21,6 @@ pub mod init;
 mod robot;
 pub mod toml_text;
 
-pub use description::{Description, FootContact, SoleSpec};
+pub use description::{Description, DrivesSpec, FootContact, SoleSpec};
 pub use fall::{Criteria, CriteriaError};
 pub use robot::{Foot, GainsText, Hand, Robot, RobotError, SOLE_BOX_THICKNESS};

@@ -89,6 +89,8 @@ pub struct Robot {
     /// Gains files by name.
     pub gains: BTreeMap<String, GainsText>,
     pub fall: Criteria,
+    /// The joint drives of the description, if it gives them.
+    pub drives: Option<crate::description::DrivesSpec>,
 }
 
 impl Robot {
@@ -323,6 +325,15 @@ impl Loader {
             gains.insert(name.clone(), GainsText { text, shown });
         }
         d.fall.check().map_err(|e| format!("fall.{e}"))?;
+        if let Some(drives) = &d.drives {
+            if let Some(j) = drives
+                .ideal
+                .iter()
+                .find(|j| !model.joints.iter().any(|x| &x.name == *j))
+            {
+                return Err(format!("drives.ideal: the model has no joint '{j}'"));
+            }
+        }
         Ok(Robot {
             name: d.name,
             shown: self.shown.clone(),
@@ -336,6 +347,7 @@ impl Loader {
             imu: d.sensors.imu,
             gains,
             fall: d.fall,
+            drives: d.drives,
         })
     }
 }

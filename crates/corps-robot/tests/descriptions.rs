@@ -80,7 +80,9 @@ fn talos_with(edit: impl Fn(&str) -> String) -> Result<Robot, RobotError> {
 
 #[test]
 fn bad_descriptions_are_refused_with_one_line_naming_the_key() {
-    let cases: [(&str, &str, &str); 11] = [
+    let cases: [(&str, &str, &str); 13] = [
+        ("delay_periods = 1", "delay_periods = 1\nideal = [\"head_9_joint\"]", "drives.ideal: the model has no joint 'head_9_joint'"),
+        ("stiffness = 1.5e4", "stiffnes = 1.5e4", "unknown field `stiffnes`"),
         ("frame = \"leg_left_sole_fix_joint\"", "frame = \"left_sole_nowhere\"", "feet[0].frame: no frame named 'left_sole_nowhere'"),
         ("ankle = [\"leg_left_5_joint\"", "ankle = [\"leg_left_9_joint\"", "feet[0].ankle: no joint named 'leg_left_9_joint'"),
         ("sole = { front = 0.1, back = 0.1, left = 0.065, right = 0.065 }\nforce_torque = \"left_ankle\"", "sole = { front = 0.1, back = 0.1, left = 0.0, right = 0.0 }\nforce_torque = \"left_ankle\"", "feet[0].sole: the rectangle has zero area"),

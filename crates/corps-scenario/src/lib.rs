@@ -18,6 +18,7 @@
 
 pub mod controller;
 pub mod default_robot;
+pub mod drives;
 pub mod dynamic_filter;
 pub mod error;
 pub mod estimation;

@@ -4,7 +4,7 @@
 
 use crate::error::Context;
 use crate::targets::positive;
-pub use crate::targets::{FootTarget, Side, Targets};
+pub use crate::targets::{FootTarget, PostureWave, Side, Targets};
 use crate::walk::{VelocitySection, WalkMotion, WalkSection};
 use corps_control::tasks::Reference;
 use corps_control::trajectories::{MinJerk, Sampled, Sinusoid};
@@ -55,6 +55,15 @@ pub enum MotionSection {
     /// CoM displacement from the start read from a CSV file, rows `t, dx, dy, dz` (a natural
     /// cubic spline through them); `path` is relative to the scenario file.
     ComFile { path: std::path::PathBuf },
+    /// Joints swing about their starting angle, `joints` giving each one's amplitude (rad),
+    /// `sin(2π f t)` at `frequency` (Hz), the amplitude ramping in over `ramp` s (min-jerk);
+    /// the CoM and feet hold. Drives the posture task's reference (TSID controllers).
+    PostureSinusoid {
+        joints: std::collections::BTreeMap<String, f64>,
+        frequency: f64,
+        #[serde(default = "one_second")]
+        ramp: f64,
+    },
 }
 
 impl Default for MotionSection {
@@ -84,6 +93,20 @@ impl MotionSection {
             MotionSection::Walk(w) => w.check(),
             MotionSection::Velocity(v) => v.check(),
             MotionSection::ComFile { .. } => Ok(()),
+            MotionSection::PostureSinusoid {
+                joints,
+                frequency,
+                ramp,
+            } => {
+                if let Some((j, a)) = joints.iter().find(|(_, a)| !a.is_finite()) {
+                    return Err(format!("motion.joints.{j} = {a}: must be finite"));
+                }
+                if joints.is_empty() {
+                    return Err("motion.joints: name at least one joint".into());
+                }
+                positive("frequency", *frequency)?;
+                positive("ramp", *ramp)
+            }
             MotionSection::ComSinusoid {
                 amplitude,
                 frequency,
@@ -136,6 +159,8 @@ pub struct MotionPlan {
     feet0: [Se3; 2],
     walk: Option<WalkMotion>,
     com_file: Option<Sampled>,
+    /// Per actuated joint, the posture sinusoid's amplitude.
+    posture_amplitude: Option<std::sync::Arc<DVector<f64>>>,
 }
 
 /// Where the robot stands when the controller takes over: its CoM and soles.
@@ -189,12 +214,34 @@ impl MotionPlan {
             )?),
             _ => None,
         };
+        let posture_amplitude = match &section {
+            MotionSection::PostureSinusoid { joints, .. } => {
+                let model = &robot.model;
+                let first = model.first_actuated();
+                let mut a = DVector::zeros(model.nv - first);
+                for (name, amplitude) in joints {
+                    let joint = model.joints.iter().find(|j| &j.name == name);
+                    match joint {
+                        Some(j) if j.nv() == 1 && j.idx_v >= first => {
+                            a[j.idx_v - first] = *amplitude
+                        }
+                        Some(_) => crate::error::bail!(
+                            "motion.joints.{name}: not a one-dof actuated joint"
+                        ),
+                        None => crate::error::bail!("motion.joints.{name}: no such joint"),
+                    }
+                }
+                Some(std::sync::Arc::new(a))
+            }
+            _ => None,
+        };
         Ok(Self {
             section,
             com0,
             feet0,
             walk,
             com_file,
+            posture_amplitude,
         })
     }
 
@@ -218,6 +265,30 @@ impl MotionPlan {
         let c0 = DVector::from_column_slice(self.com0.as_slice());
         match &self.section {
             MotionSection::Stand {} => {}
+            MotionSection::PostureSinusoid {
+                frequency, ramp, ..
+            } => {
+                let r = MinJerk {
+                    start: DVector::zeros(1),
+                    end: DVector::from_element(1, 1.0),
+                    t0: 0.0,
+                    duration: *ramp,
+                }
+                .sample(t);
+                let (k, dk, ddk) = (r.pos[0], r.vel[0], r.acc[0]);
+                let w = std::f64::consts::TAU * frequency;
+                let (sin, cos) = (w * t).sin_cos();
+                // s = k(t) sin(ωt): the product rule gives the derivatives.
+                let wave = [
+                    k * sin,
+                    dk * sin + k * w * cos,
+                    ddk * sin + 2.0 * dk * w * cos - k * w * w * sin,
+                ];
+                out.posture = self.posture_amplitude.as_ref().map(|a| PostureWave {
+                    amplitude: a.clone(),
+                    wave,
+                });
+            }
             MotionSection::Walk(_) | MotionSection::Velocity(_) => {
                 if let Some(w) = &self.walk {
                     w.sample(t, out);

@@ -166,6 +166,28 @@ pub struct ActuationSection {
     /// A PID gains file (relative to the scenario) replacing the high-gain PD servo, e.g.
     /// Gazebo's TALOS position controllers (`config/talos/gazebo_pid.toml`).
     pub pid_gains: Option<PathBuf>,
+    /// Simulate the robot description's joint drives (`[drives]`: flexible joints, current-
+    /// controlled motors, delay) under torque commands; default false: ideal torques.
+    pub drives: bool,
+    /// `[actuation.drive]`: values replacing the description's drive parameters in this run
+    /// (to test what an actuator effect does).
+    pub drive: DriveOverrides,
+}
+
+/// Drive parameters a scenario replaces (absent: the robot description's).
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct DriveOverrides {
+    pub motor_inertia: Option<f64>,
+    pub stiffness: Option<f64>,
+    pub damping: Option<f64>,
+    pub viscous_friction: Option<f64>,
+    pub dry_friction: Option<f64>,
+    pub friction_velocity: Option<f64>,
+    pub drive_gain: Option<f64>,
+    pub current_limit: Option<f64>,
+    pub bandwidth_hz: Option<f64>,
+    pub delay_periods: Option<usize>,
 }
 
 impl Default for ActuationSection {
@@ -175,6 +197,8 @@ impl Default for ActuationSection {
             saturation_angle: 0.02,
             damping_ratio: 1.0,
             pid_gains: None,
+            drives: false,
+            drive: DriveOverrides::default(),
         }
     }
 }

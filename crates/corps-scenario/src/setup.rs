@@ -122,6 +122,11 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         gains,
     )
     .map_err(|e| invalid!("sim: {e}"))?;
+    if act.drives {
+        let drives = crate::drives::for_model(&model, robot.as_ref(), &act.drive)?;
+        sim.set_drives(drives)
+            .map_err(|e| invalid!("actuation.drives: {e}"))?;
+    }
     for (k, push) in scenario.pushes.iter().enumerate() {
         model
             .frame_id(&push.frame)

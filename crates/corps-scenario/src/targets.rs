@@ -60,6 +60,17 @@ pub struct Targets {
     /// The dynamic filter's CoM correction included in `com` (x, y): position and
     /// acceleration; zero without the filter.
     pub com_correction: [[f64; 2]; 2],
+    /// A joint motion added to the posture reference (None: hold the starting posture).
+    pub posture: Option<PostureWave>,
+}
+
+/// A posture reference `q* = q₀ + a s(t)`: per-actuated-joint amplitudes `a` (rad, zero for
+/// joints that stay) times one scalar wave `s` with its two derivatives.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PostureWave {
+    pub amplitude: std::sync::Arc<DVector<f64>>,
+    /// `[s, ṡ, s̈]`.
+    pub wave: [f64; 3],
 }
 
 impl Targets {
@@ -79,6 +90,7 @@ impl Targets {
             feet: [foot(feet[0]), foot(feet[1])],
             waist_yaw: 0.0,
             com_correction: [[0.0; 2]; 2],
+            posture: None,
         }
     }
 

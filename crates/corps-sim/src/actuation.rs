@@ -2,6 +2,7 @@
 //! position control) or a PID servo with clamps (as Gazebo's joint position controllers),
 //! joint velocities. Torques are always clamped at the URDF effort limits.
 
+use crate::drive::{Drives, FlexibleDrive};
 use crate::error::{Result, SimError};
 use corps_model::{difference_to, Data, Model};
 use nalgebra::DVector;
@@ -113,16 +114,144 @@ pub struct Actuators {
     /// The PID servo's integral torque per actuated joint (zero without one).
     integral: DVector<f64>,
     first: usize,
+    /// Flexible drives of torque commands (None: ideal torques everywhere).
+    drives: Option<Drives>,
+    /// Per actuated joint, its index in q (drives need one-dof joints).
+    drive_q: Vec<usize>,
+    /// How the drives' torques are taken: `lead` s into an explicit step (the motors move
+    /// on meanwhile), or at the end of a linearly implicit step of `implicit_step` s.
+    drive_lead: f64,
+    implicit_step: Option<f64>,
+    /// The actuated joints' positions, velocities and torque command (scratch).
+    q_a: Vec<f64>,
+    v_a: Vec<f64>,
+    tau_a: Vec<f64>,
 }
 
 impl Actuators {
     pub fn new(model: &Model, gains: ServoGains) -> Self {
         let first = first_actuated(model);
+        let na = model.nv - first;
         Self {
             gains,
             error: DVector::zeros(model.nv),
-            integral: DVector::zeros(model.nv - first),
+            integral: DVector::zeros(na),
             first,
+            drives: None,
+            drive_q: Vec::new(),
+            drive_lead: 0.0,
+            implicit_step: None,
+            q_a: vec![0.0; na],
+            v_a: vec![0.0; na],
+            tau_a: vec![0.0; na],
+        }
+    }
+
+    /// Puts a flexible drive on the actuated joints given one (`drives[k]` for actuated
+    /// joint `k`; None keeps an ideal torque). Only one-dof joints take a drive.
+    pub fn set_drives(&mut self, model: &Model, drives: Vec<Option<FlexibleDrive>>) -> Result<()> {
+        let f = self.first;
+        let na = model.nv - f;
+        if drives.len() != na {
+            return Err(SimError::Setting {
+                name: "drives".into(),
+                reason: format!("{} entries for {na} actuated joints", drives.len()),
+            });
+        }
+        let mut names = Vec::with_capacity(na);
+        let mut drive_q = Vec::with_capacity(na);
+        for (k, drive) in drives.iter().enumerate() {
+            let joint = &model.joints[model.dof_joint[f + k]];
+            names.push(joint.name.clone());
+            drive_q.push(joint.idx_q);
+            if drive.is_some() && (joint.nq() != 1 || joint.nv() != 1) {
+                return Err(SimError::Setting {
+                    name: format!("drive of {}", joint.name),
+                    reason: "a flexible drive needs a one-dof joint".into(),
+                });
+            }
+        }
+        self.drives = if drives.iter().any(Option::is_some) {
+            Some(Drives::new(drives, &names)?)
+        } else {
+            None
+        };
+        self.drive_q = drive_q;
+        Ok(())
+    }
+
+    /// The next [`Actuators::torques`] are taken `lead` s into an explicit physics step.
+    pub fn set_drive_lead(&mut self, lead: f64) {
+        self.drive_lead = lead;
+        self.implicit_step = None;
+    }
+
+    /// The next [`Actuators::torques`] and [`Actuators::linearization`] are those of a
+    /// linearly implicit step of `h` s (drive and link solved together).
+    pub fn set_implicit_step(&mut self, h: f64) {
+        self.implicit_step = Some(h);
+    }
+
+    /// The flexible drives, if any.
+    pub fn drives(&self) -> Option<&Drives> {
+        self.drives.as_ref()
+    }
+
+    /// Whether torque commands go through flexible drives (their state changes every step).
+    pub fn has_drives(&self) -> bool {
+        self.drives.is_some()
+    }
+
+    /// Restarts the drives' motors on their links (after the state was set).
+    pub fn restart_drives(&mut self) {
+        if let Some(d) = &mut self.drives {
+            d.restart();
+        }
+    }
+
+    fn gather(&mut self, q: &[f64], v: &[f64]) {
+        for k in 0..self.q_a.len() {
+            self.q_a[k] = self.drive_q.get(k).map_or(0.0, |&i| q[i]);
+            self.v_a[k] = v[self.first + k];
+        }
+    }
+
+    /// A drive's linearization: the spring and damper for an explicit step; for an implicit
+    /// one, no stiffness and the damping `c` of [`Drives::implicit_link_torque`] (its motor
+    /// state enters it, not the link position).
+    fn drive_gains(&self, k: usize, drive: Option<&FlexibleDrive>) -> (f64, f64) {
+        let (Some(p), Some(d)) = (drive, &self.drives) else {
+            return (0.0, 0.0);
+        };
+        match self.implicit_step {
+            Some(h) => d
+                .implicit_link_torque(k, h, 0.0, 0.0)
+                .map_or((0.0, 0.0), |(_, c)| (0.0, c)),
+            None => (p.stiffness, p.damping),
+        }
+    }
+
+    /// Starts a control period: a torque command enters the drives (delayed by them).
+    pub fn begin_period(&mut self, cmd: &Command, q: &[f64], v: &[f64]) {
+        let Command::Torque(t) = cmd else { return };
+        if self.drives.is_none() {
+            return;
+        }
+        self.gather(q, v);
+        self.tau_a.copy_from_slice(t.as_slice());
+        if let Some(d) = &mut self.drives {
+            d.begin_period(&self.tau_a, &self.q_a, &self.v_a);
+        }
+    }
+
+    /// Advances the drives' motors by `h` with the links at `(q, v)`.
+    pub fn advance_drives(&mut self, cmd: &Command, h: f64, q: &[f64], v: &[f64]) {
+        if self.drives.is_none() || !matches!(cmd, Command::Torque(_)) {
+            return;
+        }
+        self.gather(q, v);
+        if let Some(d) = &mut self.drives {
+            d.advance(h, &self.q_a, &self.v_a);
         }
     }
 
@@ -203,6 +332,19 @@ impl Actuators {
         for (t, lim) in tau[f..].iter_mut().zip(&model.effort_limit.as_slice()[f..]) {
             *t = t.clamp(-lim, *lim);
         }
+        // A flexible drive passes its spring's torque (the current limit bounds the motor).
+        if let (Some(d), Command::Torque(_)) = (&self.drives, cmd) {
+            for k in 0..model.nv - f {
+                let (qk, vk) = (q[self.drive_q[k]], v[f + k]);
+                let t = match self.implicit_step {
+                    Some(h) => d.implicit_link_torque(k, h, qk, vk).map(|(t, _)| t),
+                    None => d.link_torque(k, qk, vk, self.drive_lead),
+                };
+                if let Some(t) = t {
+                    tau[f + k] = t;
+                }
+            }
+        }
     }
 
     /// The servo's linearization for an implicit step, over the actuated joints: writes
@@ -226,7 +368,12 @@ impl Actuators {
                 _ => model.effort_limit[f + k],
             };
             let saturated = tau[f + k].abs() >= clamp;
+            let drive = match (&self.drives, cmd) {
+                (Some(d), Command::Torque(_)) => d.drive(k),
+                _ => None,
+            };
             let (kp, kd) = match cmd {
+                _ if drive.is_some() => self.drive_gains(k, drive),
                 _ if saturated => (0.0, 0.0),
                 Command::Torque(_) => (0.0, 0.0),
                 Command::Position { .. } => (self.gains.kp[k], self.gains.kd[k]),

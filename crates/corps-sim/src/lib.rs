@@ -13,7 +13,8 @@
 //! - contact: spring–damper normal force and an anchored tangential spring on the Coulomb cone
 //!   (stiction without creep), on points sampled over the robot's box/cylinder/sphere shapes;
 //! - actuation: torques, positions through a joint PD servo, or velocities, clamped at the
-//!   URDF effort limits;
+//!   URDF effort limits; torques optionally through flexible drives with a current-controlled
+//!   motor ([`drive`]);
 //! - the loop's plant: [`SimulatedRobot`] (the simulator and its sensors as a
 //!   [`corps_loop::Plant`], optionally preparing each next step on a second thread).
 //!
@@ -41,6 +42,7 @@ mod contact;
 mod contact_pass;
 mod contact_points;
 mod disturbance;
+pub mod drive;
 mod error;
 mod overlap;
 mod placement;
@@ -53,6 +55,7 @@ pub use actuation::{first_actuated, Actuators, Command, IntegralTerm, ServoGains
 pub use contact::{point_force, Anchor, ContactParams, PointForce, PointLinearization};
 pub use contact_points::{sample_contact_points, ContactPoint, ShapeBound};
 pub use disturbance::Push;
+pub use drive::{DriveState, Drives, FlexibleDrive};
 pub use error::{Result, SimError};
 pub use overlap::Overlap;
 pub use placement::place_on_ground;

@@ -7,6 +7,7 @@ use crate::contact::{Anchor, ContactParams};
 use crate::contact_pass::{contact_pass, PointVisit};
 use crate::contact_points::{sample_contact_points, ContactPoint, ShapeBound};
 use crate::disturbance::Push;
+use crate::drive::{Drives, FlexibleDrive};
 use crate::error::{Result, SimError};
 use crate::terrain::Terrain;
 use corps_model::spatial::{Force, Se3};
@@ -311,7 +312,21 @@ impl Simulator {
         self.anchors.iter_mut().for_each(|a| *a = Anchor::default());
         self.first_stage_valid = false;
         self.implicit.invalidate();
+        self.actuators.restart_drives();
         Ok(())
+    }
+
+    /// Puts flexible drives (seed 000 Eq 2.33, [`crate::drive`]) on the actuated joints given
+    /// one; they act on torque commands.
+    pub fn set_drives(&mut self, drives: Vec<Option<FlexibleDrive>>) -> Result<()> {
+        self.actuators.set_drives(&self.model, drives)?;
+        self.first_stage_valid = false;
+        Ok(())
+    }
+
+    /// The flexible drives, if any.
+    pub fn drives(&self) -> Option<&Drives> {
+        self.actuators.drives()
     }
 
     pub fn model(&self) -> &Arc<Model> {
@@ -399,6 +414,12 @@ impl Simulator {
         {
             self.first_stage_valid = false;
         }
+        let drives = self.actuators.has_drives();
+        if drives {
+            self.actuators
+                .begin_period(cmd, self.q.as_slice(), self.v.as_slice());
+            self.first_stage_valid = false;
+        }
         let h = self.settings.dt();
         for _ in 0..self.settings.substeps {
             self.remove_due_surfaces();
@@ -408,13 +429,25 @@ impl Simulator {
                 Integrator::ImplicitEuler => {
                     self.implicit_euler(cmd, h)?;
                     self.t += h;
+                    self.advance_drives(cmd, h);
                     continue;
                 }
             }
             self.t += h;
             self.finish_step(cmd)?;
+            self.advance_drives(cmd, h);
         }
         Ok(())
+    }
+
+    /// Advances the flexible drives' motors over a step of `h` with the links at the new
+    /// state (the link step held them); the end-of-step evaluation no longer holds.
+    fn advance_drives(&mut self, cmd: &Command, h: f64) {
+        if self.actuators.has_drives() {
+            self.actuators
+                .advance_drives(cmd, h, self.q.as_slice(), self.v.as_slice());
+            self.first_stage_valid = false;
+        }
     }
 
     fn rk4(&mut self, cmd: &Command, h: f64) {
@@ -514,6 +547,7 @@ impl Simulator {
     fn evaluate(&mut self, cmd: &Command, q: &[f64], v: &[f64], t: f64, record: bool) -> bool {
         let mut changed = false;
         let model = &*self.model;
+        self.actuators.set_drive_lead(t - self.t);
         self.actuators
             .torques(model, cmd, q, v, self.tau.as_mut_slice());
         let (terrain, params) = (&self.terrain, &self.settings.contact);

@@ -63,3 +63,44 @@ fn talos_layout() -> SensorLayout {
     let talos = corps_robot::Robot::built_in("talos").unwrap().unwrap();
     SensorLayout::of(&talos, corps_sim::ForceTorqueModel::Contact)
 }
+
+under_both_integrators!(
+    drives_step_without_allocating:
+    steps_through_joint_drives_do_not_allocate,
+    implicit_steps_through_joint_drives_do_not_allocate
+);
+
+/// Torque commands through flexible drives on every joint (delay line, motor states). An
+/// explicit step must resolve the drive's spring on the lightest link (RK4: ten substeps).
+fn drives_step_without_allocating(mut settings: SimSettings) {
+    if settings.integrator == Integrator::Rk4 {
+        settings.substeps = 10;
+    }
+    let (mut sim, _) = standing_talos_with(settings);
+    let na = sim.model().nv - first_actuated(sim.model());
+    let drive = FlexibleDrive {
+        motor_inertia: 0.45,
+        stiffness: 1.5e4,
+        damping: 8.0,
+        viscous_friction: 5.57,
+        dry_friction: 4.55,
+        friction_velocity: 0.001,
+        drive_gain: 10.6,
+        current_limit: 10.0,
+        bandwidth_hz: 500.0,
+        delay_periods: 3,
+    };
+    sim.set_drives(vec![Some(drive); na]).unwrap();
+    let cmd = Command::Torque(nalgebra::DVector::from_element(na, 1.0));
+    sim.step(&cmd).unwrap();
+    let before = allocations();
+    for k in 0..50 {
+        if k % 2 == 0 {
+            sim.prepare_step();
+        }
+        sim.step(&cmd).unwrap();
+    }
+    let n = allocations() - before;
+    assert_eq!(n, 0, "{n} heap allocations in 50 steps");
+    assert!(sim.drives().is_some_and(|d| d.state(0).current != 0.0));
+}

@@ -184,3 +184,28 @@ fn mpc_prints_the_closed_loop_series() {
     assert!(min(&without, "current_A") < -6.0);
     one_line_error(&["actuator", "mpc", "--payload-kg=-1"], "payload");
 }
+
+#[test]
+fn bad_drive_settings_are_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let base =
+        "duration = 0.05\n[controller]\nkind = \"tsid_torque\"\n[actuation]\ndrives = true\n";
+    let plain = write("plain.toml", base);
+    // iCub's description gives no drives.
+    one_line_error(&["run", &plain, "--robot", "icub"], "no [drives] section");
+    let soft = write(
+        "soft.toml",
+        &format!("{base}[actuation.drive]\nstiffness = -5.0\n"),
+    );
+    one_line_error(&["run", &soft], "stiffness");
+    let typo = write(
+        "typo.toml",
+        &format!("{base}[actuation.drive]\nstifness = 5.0\n"),
+    );
+    one_line_error(&["run", &typo], "stifness");
+}

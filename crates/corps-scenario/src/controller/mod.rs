@@ -12,7 +12,7 @@ mod tsid;
 pub use hand_press::HAND_CHANNELS;
 pub use ik::IkController;
 pub use stabilized::{behind_stabilizer, Stabilized};
-pub use tsid::{TsidController, TsidMode, TANK_CHANNELS};
+pub use tsid::{TsidController, TsidMode, POSTURE_CHANNELS, TANK_CHANNELS};
 
 use super::targets::Targets;
 use corps_control::stabilizer::{StabilizerOutput, Wrench};

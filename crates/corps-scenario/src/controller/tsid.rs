@@ -92,6 +92,10 @@ pub struct TsidController {
     command: Command,
     /// The energy tank over the QP (the passive controller, torque mode).
     passive: Option<PassiveInverseDynamics>,
+    /// The posture task's starting reference (a posture wave moves about it).
+    q_posture0: DVector<f64>,
+    /// Whether the log carries [`POSTURE_CHANNELS`].
+    posture_log: bool,
     /// A hand's tool pressing on a surface (torque mode).
     hand: Option<HandPress>,
 }
@@ -118,7 +122,45 @@ pub const TANK_CHANNELS: [&str; 13] = [
     "unpaid_J",
 ];
 
+/// Log columns of a posture motion: the posture task's error over the actuated one-dof
+/// joints (RMS and largest, measured q against the reference), the largest joint speed and
+/// the largest commanded torque.
+pub const POSTURE_CHANNELS: [&str; 4] = [
+    "posture_error_rms_rad",
+    "posture_error_max_rad",
+    "joint_speed_max_rad_s",
+    "torque_max_Nm",
+];
+
 impl TsidController {
+    /// Logs [`POSTURE_CHANNELS`] (for a run whose motion drives the posture).
+    pub fn with_posture_channels(mut self) -> Self {
+        self.posture_log = true;
+        self
+    }
+
+    fn posture_signals(&self) -> [f64; 4] {
+        let model = &self.model;
+        let first = model.first_actuated();
+        let Some(p) = self.id.tasks.task::<PostureTask>("posture") else {
+            return [f64::NAN; 4];
+        };
+        let (mut sum, mut max, mut n) = (0.0f64, 0.0f64, 0usize);
+        let mut speed = 0.0f64;
+        for j in model
+            .joints
+            .iter()
+            .filter(|j| j.nv() == 1 && j.idx_v >= first)
+        {
+            let e = self.state.q[j.idx_q] - p.q_ref[j.idx_q];
+            sum += e * e;
+            max = max.max(e.abs());
+            n += 1;
+            speed = speed.max(self.state.v[j.idx_v].abs());
+        }
+        let torque = self.tau.iter().fold(0.0f64, |m, t| m.max(t.abs()));
+        [(sum / n.max(1) as f64).sqrt(), max, speed, torque]
+    }
     /// The controller for `robot` at the measured state (q, v): CoM, posture (towards
     /// `q_posture`), angular momentum, optional waist orientation, both soles in contact
     /// (contact points at the description's sole corners).
@@ -239,6 +281,8 @@ impl TsidController {
             tau: DVector::zeros(na),
             command,
             gains,
+            q_posture0: q_posture.clone(),
+            posture_log: false,
             model,
             passive,
             hand: None,
@@ -311,6 +355,23 @@ impl TsidController {
 
     /// Copies the targets into the tasks.
     fn set_references(&mut self, targets: &Targets) {
+        if let Some(wave) = &targets.posture {
+            let (q0, model) = (&self.q_posture0, &self.model);
+            if let Some(p) = self.id.tasks.task_mut::<PostureTask>("posture") {
+                let first = model.first_actuated();
+                let [s, ds, dds] = wave.wave;
+                for j in model
+                    .joints
+                    .iter()
+                    .filter(|j| j.nv() == 1 && j.idx_v >= first)
+                {
+                    let (k, a) = (j.idx_v - first, wave.amplitude[j.idx_v - first]);
+                    p.q_ref[j.idx_q] = q0[j.idx_q] + a * s;
+                    p.v_ref[k] = a * ds;
+                    p.a_ref[k] = a * dds;
+                }
+            }
+        }
         if self.waist {
             if let Some(waist) = self.id.tasks.task_mut::<Se3Task>("waist") {
                 let yaw =
@@ -442,6 +503,9 @@ impl WholeBodyController for TsidController {
         if self.hand.is_some() {
             names.extend(HAND_CHANNELS);
         }
+        if self.posture_log {
+            names.extend(POSTURE_CHANNELS);
+        }
         names
     }
 
@@ -466,6 +530,9 @@ impl WholeBodyController for TsidController {
         }
         if let Some(h) = &self.hand {
             row.extend(h.channels());
+        }
+        if self.posture_log {
+            row.extend(self.posture_signals());
         }
     }
 }

@@ -178,6 +178,9 @@ impl ScenarioRun {
                 if let Some(p) = &press {
                     inner = inner.with_press(p.tip_frame, &p.section)?;
                 }
+                if matches!(scenario.motion, MotionSection::PostureSinusoid { .. }) {
+                    inner = inner.with_posture_channels();
+                }
                 if mode == TsidMode::Torque && stabilizer.is_some() {
                     bail!("controller.gains: [stabilizer] is for the position-mode controllers")
                 }

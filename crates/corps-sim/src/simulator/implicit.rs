@@ -292,6 +292,8 @@ impl Simulator {
         let (q, v) = (self.q.as_slice(), self.v.as_slice());
         let w = &mut self.implicit;
         let first = first_actuated(model);
+        // A drive's torque at the step's end, its motor solved with the link.
+        self.actuators.set_implicit_step(h);
         self.actuators
             .torques(model, cmd, q, v, self.tau.as_mut_slice());
         self.actuators.linearization(
