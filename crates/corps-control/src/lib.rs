@@ -19,6 +19,7 @@ pub mod contacts;
 mod error;
 pub mod fallback;
 pub mod formulation;
+pub mod joint_limits;
 pub mod passivity;
 mod robot_state;
 pub mod stabilizer;
