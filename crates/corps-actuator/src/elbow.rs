@@ -155,6 +155,13 @@ impl Limits {
                 )));
             }
         }
+        for (name, [lo, hi]) in [("velocity", self.velocity), ("current", self.current)] {
+            if !(lo < 0.0 && hi > 0.0) {
+                return Err(ActuatorError::Description(format!(
+                    "{name} limits [{lo}, {hi}] must hold zero inside"
+                )));
+            }
+        }
         Ok(())
     }
 }

@@ -13,6 +13,9 @@ use crate::error::ActuatorError;
 use crate::ilqr::{Ilqr, IlqrSettings};
 use nalgebra::Vector2;
 
+/// The longest closed loop a run keeps in memory, s (600 000 ticks at 1 kHz).
+pub const MAX_DURATION_S: f64 = 600.0;
+
 /// The closed-loop experiment.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MpcScenario {
@@ -77,6 +80,18 @@ impl MpcScenario {
         }
         if !(self.dt > 0.0 && self.period_s > 0.0 && self.duration_s > 0.0) {
             return bad("dt, period and duration must be positive");
+        }
+        if self.duration_s > MAX_DURATION_S {
+            return bad(&format!(
+                "duration {} s is beyond the {MAX_DURATION_S} s a run keeps in memory",
+                self.duration_s
+            ));
+        }
+        if self.period_s < 2.0 * self.dt {
+            return bad(&format!(
+                "the swing's period {} s is shorter than two control periods",
+                self.period_s
+            ));
         }
         if self.horizon == 0 || self.iterations_per_tick == 0 {
             return bad("the horizon and the iterations per tick must be positive");

@@ -78,9 +78,10 @@ impl ThermalParameters {
     }
 
     /// The temperature after `duration` s at constant current `i` from `t0` (RK4 steps of
-    /// at most 1 s).
+    /// 1 s, or of `duration`/10⁷ beyond 10⁷ s — still far inside RK4's stability for the
+    /// model's time constant `C_th R_th` when that is minutes or more).
     pub fn predict(&self, t0: f64, i: f64, duration: f64) -> f64 {
-        let steps = duration.max(0.0).ceil().max(1.0) as usize;
+        let steps = duration.max(0.0).ceil().clamp(1.0, 1e7) as usize;
         let h = duration.max(0.0) / steps as f64;
         let mut t = t0;
         for _ in 0..steps {

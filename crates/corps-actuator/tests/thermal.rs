@@ -105,3 +105,29 @@ fn bad_records_are_errors() {
     let e = identify_thermal(&flat, &truth).unwrap_err();
     assert!(matches!(e, ActuatorError::RankDeficient { .. }), "{e}");
 }
+
+#[test]
+fn bad_descriptions_are_errors() {
+    let text = include_str!("../../../config/talos/actuators/elbow.toml");
+    for (from, to, needle) in [
+        (
+            "velocity = [-4.58, 4.58]",
+            "velocity = [0.5, 4.58]",
+            "velocity limits",
+        ),
+        (
+            "current = [-6.0, 6.0]",
+            "current = [6.0, -6.0]",
+            "current limits",
+        ),
+        ("i_m = 0.45", "i_m = -0.33", "inertia"),
+        ("ambient_c = 26.0", "ambient_c = 50.0", "ambient"),
+        ("joint = ", "jiont = ", "unknown field"),
+    ] {
+        assert!(text.contains(from), "{from}");
+        let e = corps_actuator::ActuatorDescription::from_toml(&text.replace(from, to))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(needle), "{to}: {e}");
+    }
+}

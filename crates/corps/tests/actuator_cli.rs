@@ -143,7 +143,15 @@ fn thermal_identify_and_predict() {
     assert_eq!(v["safe"], Value::Bool(true), "{v}");
     one_line_error(
         &["actuator", "thermal", "predict", "--hold-kg=-3"],
-        "must be ≥ 0",
+        "must be finite and ≥ 0",
+    );
+    one_line_error(
+        &["actuator", "thermal", "predict", "--hold-kg", "inf"],
+        "must be finite",
+    );
+    one_line_error(
+        &["actuator", "thermal", "predict", "--duration-s", "1e12"],
+        "equilibrium",
     );
     let dir = tempfile::tempdir().unwrap();
     let flat = dir.path().join("flat.csv");
@@ -183,6 +191,12 @@ fn mpc_prints_the_closed_loop_series() {
     let without = series(&["--no-barrier"]);
     assert!(min(&without, "current_A") < -6.0);
     one_line_error(&["actuator", "mpc", "--payload-kg=-1"], "payload");
+    one_line_error(&["actuator", "mpc", "--duration-s", "1e9"], "in memory");
+    one_line_error(
+        &["actuator", "mpc", "--period-s", "1e-6"],
+        "two control periods",
+    );
+    one_line_error(&["actuator", "mpc", "--payload-kg", "1e9"], "diverges");
 }
 
 #[test]

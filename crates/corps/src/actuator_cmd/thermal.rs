@@ -170,8 +170,24 @@ fn identify(args: IdentifyArgs) -> Result<()> {
 
 fn predict(args: PredictArgs) -> Result<()> {
     let d = args.actuator.load()?;
-    if !(args.hold_kg >= 0.0 && args.distance_m >= 0.0 && args.duration_s >= 0.0) {
-        bail!("--hold-kg, --distance-m and --duration-s must be ≥ 0");
+    let finite = [
+        args.hold_kg,
+        args.distance_m,
+        args.duration_s,
+        args.angle_rad,
+    ]
+    .iter()
+    .all(|x| x.is_finite());
+    if !(finite && args.hold_kg >= 0.0 && args.distance_m >= 0.0 && args.duration_s >= 0.0) {
+        bail!(
+            "--hold-kg, --distance-m and --duration-s must be finite and ≥ 0, --angle-rad finite"
+        );
+    }
+    if args.duration_s > 1e7 {
+        bail!(
+            "--duration-s {} is beyond 10⁷ s: the equilibrium temperature is the answer",
+            args.duration_s
+        );
     }
     let payload = corps_actuator::elbow::Payload::point_mass(args.hold_kg, args.distance_m);
     let m = &d.model;
