@@ -15,6 +15,7 @@ pub mod identification;
 pub mod ilqr;
 pub mod mpc;
 pub mod records;
+pub mod simulated_joint;
 pub mod thermal;
 
 pub use description::ActuatorDescription;

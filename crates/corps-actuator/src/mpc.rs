@@ -1,8 +1,9 @@
 //! The current-limiting iLQR in closed loop (seed 000 §3.13, §4.1 Fig 3.7–3.10): the MPC
 //! solves the problem of [`crate::current_ocp`] at every control period from the measured
 //! state, warm-started from the previous solution shifted by one node, and applies the first
-//! current; the plant is the same joint model (smoothed friction) integrated by RK4 with ten
-//! sub-steps per control period and the current held. The payload hangs on the link from
+//! current. The plant is the joint in corps-sim behind a flexible drive (current loop, one
+//! period of delay, [`crate::simulated_joint`]), or the MPC's own model integrated by RK4
+//! with ten sub-steps per control period and the current held. The payload hangs on the link from
 //! the start; the reference swings the joint between `q_start` and `q_target` (beyond the
 //! position limit, so that the barrier decides where the arm stops).
 
@@ -34,6 +35,18 @@ pub struct MpcScenario {
     pub iterations_per_tick: usize,
     /// With the exponential barriers (false: the comparison without them).
     pub barrier: bool,
+    /// What the MPC controls.
+    pub plant: MpcPlant,
+}
+
+/// The plant of the closed loop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MpcPlant {
+    /// The MPC's own model (smoothed friction), RK4 at a tenth of the control period.
+    Model,
+    /// The joint in corps-sim behind a flexible drive with current loop and one period of
+    /// delay ([`crate::simulated_joint`]).
+    Simulator,
 }
 
 impl Default for MpcScenario {
@@ -54,6 +67,7 @@ impl Default for MpcScenario {
             horizon: 100,
             iterations_per_tick: 10,
             barrier: true,
+            plant: MpcPlant::Simulator,
         }
     }
 }
@@ -123,22 +137,51 @@ impl MpcScenario {
 
     /// Runs the closed loop from rest at `q_start`.
     pub fn run(&self, actuator: &ActuatorDescription) -> Result<MpcSeries, ActuatorError> {
+        self.run_timed(actuator, |_| {})
+    }
+
+    /// [`MpcScenario::run`], calling `on_solve` with each solve's wall time.
+    pub fn run_timed(
+        &self,
+        actuator: &ActuatorDescription,
+        mut on_solve: impl FnMut(std::time::Duration),
+    ) -> Result<MpcSeries, ActuatorError> {
         let mut mpc = Mpc::new(self, actuator)?;
-        let mut plant = mpc.ocp;
-        plant.dt = self.dt / 10.0;
+        let mut model_plant = mpc.ocp;
+        model_plant.dt = self.dt / 10.0;
+        let mut sim_plant = match self.plant {
+            MpcPlant::Simulator => Some(crate::simulated_joint::SimulatedJoint::new(
+                actuator,
+                self.payload_kg,
+                self.distance_m,
+                self.q_start,
+            )?),
+            MpcPlant::Model => None,
+        };
         let ticks = (self.duration_s / self.dt).round() as usize;
         let mut x = Vector2::new(self.q_start, 0.0);
         let mut out = MpcSeries::default();
         for tick in 0..ticks {
             let t = tick as f64 * self.dt;
+            let start = std::time::Instant::now();
             let (u, iterations) = mpc.command(t, &x)?;
+            on_solve(start.elapsed());
             out.t.push(t);
             out.q.push(x[0]);
             out.q_ref.push(self.reference(t)[0]);
             out.current.push(u);
             out.iterations.push(iterations);
-            for _ in 0..10 {
-                x = plant.step(&x, u);
+            match &mut sim_plant {
+                Some(joint) => {
+                    joint.step(u)?;
+                    let [q, v] = joint.state();
+                    x = Vector2::new(q, v);
+                }
+                None => {
+                    for _ in 0..10 {
+                        x = model_plant.step(&x, u);
+                    }
+                }
             }
             if !(x[0].is_finite() && x[1].is_finite()) {
                 return Err(ActuatorError::Ilqr(format!(

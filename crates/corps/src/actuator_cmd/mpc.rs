@@ -2,13 +2,17 @@
 
 use super::ActuatorArg;
 use crate::sim_cmd::plots::{draw_figure, Panel};
-use anyhow::{bail, Result};
+use anyhow::Result;
 use clap::Args;
-use corps_actuator::mpc::{Mpc, MpcScenario, MpcSeries};
-use nalgebra::Vector2;
+use corps_actuator::mpc::{MpcPlant, MpcScenario, MpcSeries};
 use serde_json::json;
 use std::path::PathBuf;
-use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum PlantArg {
+    Sim,
+    Model,
+}
 
 #[derive(Args)]
 pub struct MpcArgs {
@@ -21,6 +25,10 @@ pub struct MpcArgs {
     /// Drop the exponential barriers (the comparison of Fig 3.10).
     #[arg(long)]
     no_barrier: bool,
+    /// The plant: the joint in corps-sim behind its drive (current loop, one period of
+    /// delay), or the MPC's own model.
+    #[arg(long, value_enum, default_value_t = PlantArg::Sim)]
+    plant: PlantArg,
     /// Period of the reference swing, s.
     #[arg(long, default_value_t = MpcScenario::default().period_s)]
     period_s: f64,
@@ -45,33 +53,15 @@ pub fn run(args: MpcArgs) -> Result<()> {
         period_s: args.period_s,
         duration_s: args.duration_s,
         barrier: !args.no_barrier,
+        plant: match args.plant {
+            PlantArg::Sim => MpcPlant::Simulator,
+            PlantArg::Model => MpcPlant::Model,
+        },
         ..MpcScenario::default()
     };
-    // The loop of MpcScenario::run, with each solve timed.
-    let mut mpc = Mpc::new(&scenario, &d)?;
-    let mut plant = mpc.ocp;
-    plant.dt = scenario.dt / 10.0;
-    let ticks = (scenario.duration_s / scenario.dt).round() as usize;
-    let mut x = Vector2::new(scenario.q_start, 0.0);
-    let mut series = MpcSeries::default();
-    let mut solve_us = Vec::with_capacity(ticks);
-    for tick in 0..ticks {
-        let t = tick as f64 * scenario.dt;
-        let start = Instant::now();
-        let (u, iterations) = mpc.command(t, &x)?;
-        solve_us.push(start.elapsed().as_secs_f64() * 1e6);
-        series.t.push(t);
-        series.q.push(x[0]);
-        series.q_ref.push(scenario.reference(t)[0]);
-        series.current.push(u);
-        series.iterations.push(iterations);
-        for _ in 0..10 {
-            x = plant.step(&x, u);
-        }
-        if !(x[0].is_finite() && x[1].is_finite()) {
-            bail!("the joint diverged at t = {t:.3} s");
-        }
-    }
+    let mut solve_us = Vec::new();
+    let series = scenario.run_timed(&d, |elapsed| solve_us.push(elapsed.as_secs_f64() * 1e6))?;
+    let ticks = series.t.len();
     solve_us.sort_by(f64::total_cmp);
     let pct = |p: f64| solve_us[((solve_us.len() - 1) as f64 * p) as usize];
     let min_i = series.current.iter().copied().fold(f64::INFINITY, f64::min);
@@ -101,7 +91,8 @@ pub fn run(args: MpcArgs) -> Result<()> {
     }
     let iterations = series.iterations.iter().sum::<usize>() as f64 / ticks.max(1) as f64;
     crate::stdout::print(&format!(
-        "{} with {} kg at {} m, {} barriers, swing {:.2} → {:.2} rad every {} s, {} ticks at 1 kHz\n\
+        "{} with {} kg at {} m, {} barriers, swing {:.2} → {:.2} rad every {} s, {} ticks at 1 kHz \
+         on the {}\n\
          command {min_i:.2} … {max_i:.2} A (limit {:?}); lowest q {min_q:.3} rad (limit {:?})\n\
          solve (100 nodes, ≤ {} iterations, {iterations:.2} on average): median {:.0} µs, \
          95 % {:.0} µs, max {:.0} µs\n",
@@ -113,6 +104,10 @@ pub fn run(args: MpcArgs) -> Result<()> {
         scenario.q_target,
         scenario.period_s,
         ticks,
+        match scenario.plant {
+            MpcPlant::Simulator => "simulated joint and drive",
+            MpcPlant::Model => "MPC's own model",
+        },
         d.limits.current,
         d.limits.position,
         scenario.iterations_per_tick,
