@@ -145,6 +145,9 @@ error peaks at the 0.3 rad amplitude): 4.55 N·m of dry friction outweighs their
   plateau level depends on R·K_m (undisclosed; 10.6 assumed) and on the reference (not given).
 - The iLQR on the simulated drive chatters (±4.7 A at ≈ 41 Hz, the drive's resonance) where the arm is lowered or
   held: its model lacks the drive's delay and compliance.
+- The 20 cm walk on the drives: ZMP error peaks x / y 109 / 103 mm above the thesis's 78 / 78 mm
+  (the thesis's Gazebo applied ideal torques, as corps' ideal-torque walk, which is within
+  them; the drives' uncompensated friction, compliance and delay cost the difference).
 - S13 needs a drive of ≤ 2e3 N·m/rad to diverge: with the description's 1.5e4 N·m/rad (an
   assumed harmonic-drive stiffness) the "Fail" gains stay bounded.
 - Thermal parameters: none in the thesis to compare with; the identification is checked
