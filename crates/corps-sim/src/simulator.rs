@@ -318,7 +318,47 @@ impl Simulator {
 
     /// Puts flexible drives (seed 000 Eq 2.33, [`crate::drive`]) on the actuated joints given
     /// one; they act on torque commands.
+    /// Under an explicit integrator the drive's spring acts on the link explicitly: a drive
+    /// whose `√(K/m)` on the joint's apparent inertia `m = 1/(M⁻¹)_jj` (at the current
+    /// configuration) exceeds the step's stability bound (RK4 2.8/h, semi-implicit Euler 2/h)
+    /// is refused, with the substeps it would need.
     pub fn set_drives(&mut self, drives: Vec<Option<FlexibleDrive>>) -> Result<()> {
+        let bound = match self.settings.integrator {
+            Integrator::ImplicitEuler => None,
+            Integrator::Rk4 => Some(2.8),
+            Integrator::SemiImplicitEuler => Some(2.0),
+        };
+        if let Some(bound) = bound {
+            let model = &*self.model;
+            let first = crate::actuation::first_actuated(model);
+            let mut data = Data::new(model);
+            let minv =
+                corps_model::compute_minverse_factorized(model, &mut data, self.q.as_slice())?;
+            let h = self.settings.dt();
+            for (k, drive) in drives.iter().enumerate() {
+                let Some(d) = drive else { continue };
+                let Some(&m_inv) = minv.get((first + k, first + k)) else {
+                    continue;
+                };
+                let omega = (d.stiffness * m_inv).sqrt();
+                if omega * h > bound {
+                    let needed = (omega * self.settings.control_dt / bound).ceil();
+                    let joint = &model.joints[model.dof_joint[first + k]].name;
+                    return Err(SimError::Setting {
+                        name: format!("drive of {joint}"),
+                        reason: format!(
+                            "its spring ({} N·m/rad on {:.2e} kg·m²) needs a step of at most \
+                             {:.2e} s under {:?}: use integrator = \"implicit_euler\" or \
+                             {needed} substeps",
+                            d.stiffness,
+                            1.0 / m_inv,
+                            bound / omega,
+                            self.settings.integrator
+                        ),
+                    });
+                }
+            }
+        }
         self.actuators.set_drives(&self.model, drives)?;
         self.first_stage_valid = false;
         Ok(())

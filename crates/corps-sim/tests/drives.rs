@@ -94,3 +94,33 @@ fn a_near_ideal_drive_moves_the_link_as_an_ideal_torque() {
         assert!(worst < tolerance, "{integrator:?}: {worst}");
     }
 }
+
+#[test]
+fn an_explicit_step_too_long_for_a_drive_is_refused() {
+    let model = pendulum();
+    let terrain = Terrain::preset(TerrainPreset::Flat, 0.8);
+    let gains = ServoGains {
+        kp: DVector::zeros(1),
+        kd: DVector::zeros(1),
+        integral: None,
+    };
+    let mut stiff = near_ideal();
+    stiff.stiffness = 1e9;
+    // The arm's inertia about the hinge is 0.5 kg·m²: √(1e9/0.5) · 1 ms = 44.7 > 2.8.
+    let mut sim = Simulator::new(
+        model.clone(),
+        terrain.clone(),
+        SimSettings::default(),
+        &[0.0],
+        gains.clone(),
+    )
+    .unwrap();
+    let e = sim.set_drives(vec![Some(stiff)]).unwrap_err().to_string();
+    assert!(e.contains("hinge") && e.contains("substeps"), "{e}");
+    let implicit = SimSettings {
+        integrator: Integrator::ImplicitEuler,
+        ..SimSettings::default()
+    };
+    let mut sim = Simulator::new(model, terrain, implicit, &[0.0], gains).unwrap();
+    sim.set_drives(vec![Some(stiff)]).unwrap();
+}
