@@ -163,6 +163,18 @@ pub struct MotionPlan {
     posture_amplitude: Option<std::sync::Arc<DVector<f64>>>,
 }
 
+/// A min-jerk ramp from 0 to 1 over `duration` s: its value and two derivatives at `t`.
+fn ramp_in(t: f64, duration: f64) -> (f64, f64, f64) {
+    let r = MinJerk {
+        start: DVector::zeros(1),
+        end: DVector::from_element(1, 1.0),
+        t0: 0.0,
+        duration,
+    }
+    .sample(t);
+    (r.pos[0], r.vel[0], r.acc[0])
+}
+
 /// Where the robot stands when the controller takes over: its CoM and soles.
 #[derive(Clone, Copy, Debug)]
 pub struct Handover {
@@ -268,14 +280,7 @@ impl MotionPlan {
             MotionSection::PostureSinusoid {
                 frequency, ramp, ..
             } => {
-                let r = MinJerk {
-                    start: DVector::zeros(1),
-                    end: DVector::from_element(1, 1.0),
-                    t0: 0.0,
-                    duration: *ramp,
-                }
-                .sample(t);
-                let (k, dk, ddk) = (r.pos[0], r.vel[0], r.acc[0]);
+                let (k, dk, ddk) = ramp_in(t, *ramp);
                 let w = std::f64::consts::TAU * frequency;
                 let (sin, cos) = (w * t).sin_cos();
                 // s = k(t) sin(ωt): the product rule gives the derivatives.
@@ -323,15 +328,8 @@ impl MotionPlan {
                     amplitude: DVector::from_column_slice(amplitude),
                     frequency: *frequency,
                 };
-                let r = MinJerk {
-                    start: DVector::zeros(1),
-                    end: DVector::from_element(1, 1.0),
-                    t0: 0.0,
-                    duration: *ramp,
-                }
-                .sample(t);
                 let s = sine.sample(t);
-                let (k, dk, ddk) = (r.pos[0], r.vel[0], r.acc[0]);
+                let (k, dk, ddk) = ramp_in(t, *ramp);
                 // c = c0 + k(t)(s − c0): the product rule gives the derivatives.
                 let d = &s.pos - &c0;
                 out.com = Reference {
