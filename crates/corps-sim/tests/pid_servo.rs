@@ -3,29 +3,10 @@
 //! takes the load off the proportional one up to its clamp, and the torque clamp caps the
 //! whole command.
 
-use corps_model::{build_model_from_urdf_str, RootJoint};
+mod common;
+use common::{pendulum, ARM, G, MASS};
 use corps_sim::*;
 use nalgebra::DVector;
-use std::sync::Arc;
-
-const MASS: f64 = 2.0;
-const ARM: f64 = 0.5;
-const G: f64 = 9.81;
-
-/// A point-like mass on a massless arm about the y axis, horizontal at q = 0 (fixed base,
-/// no collision shape, so no contact).
-fn pendulum() -> Arc<corps_model::Model> {
-    let urdf = format!(
-        r#"<robot name="pendulum">
-  <link name="base"/>
-  <link name="arm"><inertial><origin xyz="{ARM} 0 0"/><mass value="{MASS}"/>
-    <inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial></link>
-  <joint name="hinge" type="revolute"><parent link="base"/><child link="arm"/>
-    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1000" velocity="10"/></joint>
-</robot>"#
-    );
-    Arc::new(build_model_from_urdf_str(&urdf, RootJoint::Fixed).unwrap())
-}
 
 /// The joint angle after `seconds` of holding q = 0 under `gains`.
 fn settle(gains: ServoGains, seconds: f64) -> f64 {

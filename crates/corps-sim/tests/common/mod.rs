@@ -118,3 +118,23 @@ macro_rules! under_both_integrators {
 }
 #[allow(unused_imports)]
 pub(crate) use under_both_integrators;
+
+/// Mass (kg) and arm (m) of [`pendulum`], and gravity.
+pub const MASS: f64 = 2.0;
+pub const ARM: f64 = 0.5;
+pub const G: f64 = 9.81;
+
+/// A point-like mass on a massless arm about the y axis, horizontal at q = 0 (fixed base,
+/// no collision shape, so no contact).
+pub fn pendulum() -> Arc<Model> {
+    let urdf = format!(
+        r#"<robot name="pendulum">
+  <link name="base"/>
+  <link name="arm"><inertial><origin xyz="{ARM} 0 0"/><mass value="{MASS}"/>
+    <inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="hinge" type="revolute"><parent link="base"/><child link="arm"/>
+    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="1000" velocity="10"/></joint>
+</robot>"#
+    );
+    Arc::new(build_model_from_urdf_str(&urdf, RootJoint::Fixed).unwrap())
+}
