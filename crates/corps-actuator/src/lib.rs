@@ -6,6 +6,7 @@
 
 pub mod barrier;
 pub mod butterworth;
+mod csv_rows;
 pub mod current_ocp;
 pub mod description;
 pub mod elbow;

@@ -138,51 +138,15 @@ pub const CSV_COLUMNS: [&str; 5] = ["t_s", "q_rad", "current_A", "torque_sensor_
 /// Reads a record in the CSV format of the module's documentation; `payload_moment` is the
 /// known payload's `L_Y`, kg·m.
 pub fn read_csv(text: &str, payload_moment: f64) -> Result<IdentificationData, ActuatorError> {
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty());
-    let (_, header) = lines
-        .next()
-        .ok_or_else(|| ActuatorError::Data("the file is empty".into()))?;
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let mut index = [0usize; 5];
-    for (i, c) in CSV_COLUMNS.iter().enumerate() {
-        index[i] = names.iter().position(|n| n == c).ok_or_else(|| {
-            ActuatorError::Data(format!(
-                "no column `{c}` in the header (expected {})",
-                CSV_COLUMNS.join(",")
-            ))
-        })?;
-    }
     let mut segments: Vec<Segment> = Vec::new();
-    for (line, text) in lines {
-        let fields: Vec<&str> = text.split(',').map(str::trim).collect();
-        let mut v = [0.0; 5];
-        for (i, &col) in index.iter().enumerate() {
-            let field = fields.get(col).ok_or_else(|| {
-                ActuatorError::Data(format!(
-                    "line {}: {} fields, {} expected",
-                    line + 1,
-                    fields.len(),
-                    names.len()
-                ))
-            })?;
-            v[i] = field.parse().map_err(|_| {
-                ActuatorError::Data(format!(
-                    "line {}: `{field}` is not a number ({})",
-                    line + 1,
-                    CSV_COLUMNS[i]
-                ))
-            })?;
-        }
+    crate::csv_rows::read_rows(text, CSV_COLUMNS, |line, v| {
         let payload = match v[4] {
             0.0 => false,
             1.0 => true,
             x => {
                 return Err(ActuatorError::Data(format!(
                     "line {}: payload must be 0 or 1, not {x}",
-                    line + 1
+                    line
                 )))
             }
         };
@@ -196,16 +160,14 @@ pub fn read_csv(text: &str, payload_moment: f64) -> Result<IdentificationData, A
         if v[..4].iter().any(|x: &f64| !x.is_finite()) {
             return Err(ActuatorError::Data(format!(
                 "line {}: a non-finite value",
-                line + 1
+                line
             )));
         }
         if let Some(&last) = s.t.last() {
             if v[0] <= last {
                 return Err(ActuatorError::Data(format!(
                     "line {}: time {} s does not increase (previous {} s)",
-                    line + 1,
-                    v[0],
-                    last
+                    line, v[0], last
                 )));
             }
         }
@@ -213,7 +175,8 @@ pub fn read_csv(text: &str, payload_moment: f64) -> Result<IdentificationData, A
         s.q.push(v[1]);
         s.current.push(v[2]);
         s.torque_sensor.push(v[3]);
-    }
+        Ok(())
+    })?;
     Ok(IdentificationData {
         segments,
         payload_moment,

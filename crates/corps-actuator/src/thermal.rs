@@ -117,6 +117,24 @@ pub struct HeatingRecord {
     pub temperature: Vec<f64>,
 }
 
+/// The columns of a heating record's CSV file.
+pub const CSV_COLUMNS: [&str; 3] = ["t_s", "current_A", "temperature_C"];
+
+impl HeatingRecord {
+    /// Reads a CSV file with the columns [`CSV_COLUMNS`] (in any order, by header name);
+    /// [`identify_thermal`] checks the values.
+    pub fn read_csv(text: &str) -> Result<Self, ActuatorError> {
+        let mut r = Self::default();
+        crate::csv_rows::read_rows(text, CSV_COLUMNS, |_, [t, current, temperature]| {
+            r.t.push(t);
+            r.current.push(current);
+            r.temperature.push(temperature);
+            Ok(())
+        })?;
+        Ok(r)
+    }
+}
+
 /// Fitted `C_th`, `R_th`, `P_0` with their relative standard deviations (%) and the fit's
 /// temperature RMSD (K) when the identified model is simulated along the record.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -63,48 +63,7 @@ pub fn run(cmd: ThermalCommand) -> Result<()> {
 fn read_record(path: &PathBuf) -> Result<HeatingRecord> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty());
-    let (_, header) = lines
-        .next()
-        .with_context(|| format!("{} is empty", path.display()))?;
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let column = |c: &str| {
-        names.iter().position(|n| *n == c).with_context(|| {
-            format!(
-                "{}: no column `{c}` (expected t_s,current_A,temperature_C)",
-                path.display()
-            )
-        })
-    };
-    let idx = [
-        column("t_s")?,
-        column("current_A")?,
-        column("temperature_C")?,
-    ];
-    let mut r = HeatingRecord::default();
-    for (line, l) in lines {
-        let fields: Vec<&str> = l.split(',').map(str::trim).collect();
-        let mut v = [0.0; 3];
-        for (k, &i) in idx.iter().enumerate() {
-            let f = fields
-                .get(i)
-                .with_context(|| format!("{} line {}: too few fields", path.display(), line + 1))?;
-            v[k] = f.parse().with_context(|| {
-                format!(
-                    "{} line {}: `{f}` is not a number",
-                    path.display(),
-                    line + 1
-                )
-            })?;
-        }
-        r.t.push(v[0]);
-        r.current.push(v[1]);
-        r.temperature.push(v[2]);
-    }
-    Ok(r)
+    HeatingRecord::read_csv(&text).with_context(|| path.display().to_string())
 }
 
 fn identify(args: IdentifyArgs) -> Result<()> {
