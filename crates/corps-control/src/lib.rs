@@ -21,6 +21,7 @@ pub mod fallback;
 pub mod formulation;
 pub mod joint_limits;
 pub mod passivity;
+pub mod posture_consistency;
 mod robot_state;
 pub mod stabilizer;
 mod stack;

@@ -6,7 +6,14 @@
 //!   (6 rows); `T = [I I I I; [p₁]× [p₂]× [p₃]× [p₄]×]`.
 //! - **Point** (a hand on a wall, a knee): one point at the frame origin; the motion
 //!   constraint holds its position only (the 3 linear rows); `T = [I; 0]`.
+//! - **Wrench** (seed 001 §2.4): one six-dimensional wrench about the frame origin, contact
+//!   frame coordinates, bounded by [`WrenchLimits`] (unilateral, friction polygon, torsion,
+//!   centre of pressure); `T = I`.
+//!
+//! The motion constraint is an equality (TSID) unless [`Contact::soft`] gives it a weight in
+//! the cost (seed 001: the stance foot tracked softly, §2.4).
 
+use super::WrenchLimits;
 use crate::robot_state::RobotState;
 use crate::tasks::{Se3Reference, Se3Task, TaskRows};
 use corps_model::{Model, Result};
@@ -38,6 +45,11 @@ pub struct Contact {
     /// position mode, where they would otherwise bend its motion (see `corps`'s TSID
     /// controller). Default false.
     pub bilateral: bool,
+    /// The motion rows as a cost of this weight instead of an equality (seed 001's soft
+    /// stance-foot task); `None`: an equality. Only the [τ; f] formulation takes it.
+    pub soft: Option<f64>,
+    /// A wrench contact's limits (its force variables are the wrench); `None` for point forces.
+    wrench: Option<WrenchLimits>,
     /// `Jc = Tᵀ J` (3 per point × nv): point Jacobians, LOCAL.
     pub jc: DMatrix<f64>,
     /// `T` (6 × 3 per point), refreshed by `compute`.
@@ -106,6 +118,43 @@ impl Contact {
         c
     }
 
+    /// A wrench contact on frame `frame`, its z axis the normal (seed 001 §2.4): one wrench
+    /// about the frame origin bounded by `limits` and `fmin ≤ f_z ≤ fmax`; its motion task
+    /// holds the whole pose with gains `kp`, `kd`. The wrench is not regularized (seed 001:
+    /// only τ is, L1407–L1413).
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_wrench(
+        model: &Model,
+        name: &str,
+        frame: usize,
+        limits: WrenchLimits,
+        (fmin, fmax): (f64, f64),
+        kp: Vector6<f64>,
+        kd: Vector6<f64>,
+        reference: Se3Reference,
+    ) -> Self {
+        let mut c = Self::with_points(
+            model,
+            name,
+            frame,
+            Vec::new(),
+            Vector3::z(),
+            limits.mu,
+            (fmin, fmax),
+            Se3Task::new(model.nv, frame, kp, kd, reference),
+        );
+        c.wrench = Some(limits);
+        c.jc = DMatrix::zeros(6, model.nv);
+        c.t = DMatrix::identity(6, 6);
+        c.force_reg_weight = 0.0;
+        c
+    }
+
+    /// The wrench limits of a wrench contact.
+    pub fn wrench_limits(&self) -> Option<&WrenchLimits> {
+        self.wrench.as_ref()
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn with_points(
         model: &Model,
@@ -131,6 +180,8 @@ impl Contact {
             force_reg_components: Vector6::new(1.0, 1.0, 1e-3, 2.0, 2.0, 2.0),
             force_reference: Vector6::zeros(),
             bilateral: false,
+            soft: None,
+            wrench: None,
             jc: DMatrix::zeros(nf, model.nv),
             t: DMatrix::zeros(6, nf),
         }
@@ -141,12 +192,16 @@ impl Contact {
         &self.points
     }
 
-    /// Force variables: 3 per point.
+    /// Force variables: 3 per point, or the 6 of a wrench.
     pub fn n_force(&self) -> usize {
-        3 * self.points.len()
+        if self.wrench.is_some() {
+            6
+        } else {
+            3 * self.points.len()
+        }
     }
 
-    /// Motion-constraint rows: 6 for a surface, 3 for a point.
+    /// Motion-constraint rows: 6 for a surface or a wrench, 3 for a point.
     pub fn n_motion(&self) -> usize {
         if self.points.len() == 1 {
             3
@@ -155,13 +210,20 @@ impl Contact {
         }
     }
 
-    /// Inequality rows: the friction pyramid of each point, then the total normal force.
+    /// Inequality rows: the friction pyramid of each point, then the total normal force; or
+    /// a wrench's limits.
     pub fn n_rows(&self) -> usize {
-        PYRAMID_ROWS * self.points.len() + 1
+        match &self.wrench {
+            Some(limits) => limits.n_rows(),
+            None => PYRAMID_ROWS * self.points.len() + 1,
+        }
     }
 
-    /// The contact wrench [force; torque about the frame origin] of point forces `f`.
+    /// The contact wrench [force; torque about the frame origin] of the force variables `f`.
     pub fn wrench(&self, f: &[f64]) -> Vector6<f64> {
+        if self.wrench.is_some() {
+            return Vector6::from_column_slice(&f[..6]);
+        }
         let mut w = Vector6::zeros();
         for (i, p) in self.points.iter().enumerate() {
             let fi = Vector3::new(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
@@ -174,8 +236,11 @@ impl Contact {
         w
     }
 
-    /// Total normal force of point forces `f`.
+    /// Total normal force of the force variables `f`.
     pub fn normal_force(&self, f: &[f64]) -> f64 {
+        if self.wrench.is_some() {
+            return f[2];
+        }
         (0..self.points.len())
             .map(|i| {
                 self.normal
@@ -187,6 +252,10 @@ impl Contact {
     /// Writes `T` (6 × 3 per point) into `t`.
     pub fn write_generator(&self, t: &mut DMatrix<f64>) {
         t.fill(0.0);
+        if self.wrench.is_some() {
+            t.fill_with_identity();
+            return;
+        }
         for (i, p) in self.points.iter().enumerate() {
             for k in 0..3 {
                 t[(k, 3 * i + k)] = 1.0;
@@ -214,7 +283,9 @@ impl Contact {
         let mask = self.motion.mask;
         self.motion.mask = Vector6::repeat(1.0);
         let computed = self.motion.compute(model, s).map(|_| ());
-        if computed.is_ok() {
+        if computed.is_ok() && self.wrench.is_some() {
+            self.jc.copy_from(&self.motion.rows().a);
+        } else if computed.is_ok() {
             let rows = self.motion.rows();
             // Point i: velocity of p_i = J_lin − p_i × J_ang (column-wise).
             for (i, p) in self.points.iter().enumerate() {
@@ -235,7 +306,8 @@ impl Contact {
 
     /// The friction pyramid and normal-force bounds on this contact's force variables:
     /// per point `[−t₁ − μn; t₁ − μn; −t₂ − μn; t₂ − μn]ᵀ f_i ≤ 0` with
-    /// `t₁ = n × eₓ / ‖·‖`, `t₂ = n × t₁ / ‖·‖`, then `fmin ≤ Σ nᵀ f_i ≤ fmax`.
+    /// `t₁ = n × eₓ / ‖·‖`, `t₂ = n × t₁ / ‖·‖`, then `fmin ≤ Σ nᵀ f_i ≤ fmax`; a wrench
+    /// contact's rows are its [`WrenchLimits`].
     pub fn force_constraints(
         &self,
         c: &mut DMatrix<f64>,
@@ -244,6 +316,10 @@ impl Contact {
         row: usize,
         col: usize,
     ) {
+        if let Some(limits) = &self.wrench {
+            limits.write_rows(c, l, u, row, col, (self.fmin, self.fmax));
+            return;
+        }
         let n = self.normal;
         let t1 = n.cross(&Vector3::x()).normalize();
         let t2 = n.cross(&t1).normalize();

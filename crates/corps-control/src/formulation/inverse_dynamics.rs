@@ -271,6 +271,13 @@ impl InverseDynamics {
                 ),
             });
         }
+        if let Some(c) = self.contacts.iter().find(|c| c.soft.is_some()) {
+            return Err(ControlError::Config {
+                name: format!("contact '{}'", c.name),
+                reason: "a soft contact (motion rows in the cost) needs the [τ; f] formulation;                          TSID's inverse dynamics holds contacts as equalities"
+                    .into(),
+            });
+        }
         let na = model.nv - self.first;
         check_actuation(&self.actuation, na)?;
         let (n, n_eq, n_in) = self.dims(model);

@@ -3,7 +3,8 @@
 //! function of u through the dynamics, ν̇(u) = M⁻¹(Sᵀτ + J_cᵀf − h) = G u + d, so that a task
 //! `A ν̇ = b` becomes the rows `(A G) u = b − A d`:
 //! - equalities: each contact's motion rows and the stack's priority-0 tasks (no weight: an
-//!   equality holds until its task leaves the stack);
+//!   equality holds until its task leaves the stack); a contact with a `soft` weight puts
+//!   its motion rows in the cost instead (seed 001's stance-foot task);
 //! - inequalities: each contact's friction pyramid and normal-force bounds; torque bounds as
 //!   bounds on τ;
 //! - cost: Σ w‖A G u − (b − A d)‖² over the priority-1 tasks, the contacts' force
@@ -59,6 +60,8 @@ pub struct TorqueForce {
     column: DVector<f64>,
     /// A task's rows mapped to u, one buffer per row count met so far.
     mapped: Vec<TaskRows>,
+    /// The non-zero columns of a task's rows (nv entries).
+    used: Vec<usize>,
     pub problem: QpProblem,
     solver: ActiveSetSolver,
     pub output: TorqueForceOutput,
@@ -82,6 +85,7 @@ impl TorqueForce {
             drift: DVector::zeros(model.nv),
             column: DVector::zeros(model.nv),
             mapped: Vec::new(),
+            used: vec![0; model.nv],
             problem: QpProblem::new(na, 0, 0),
             solver: ActiveSetSolver::new(na, 0, 0),
             output: TorqueForceOutput {
@@ -98,7 +102,9 @@ impl TorqueForce {
         let na = model.nv - self.first;
         let c = &self.contacts;
         let n_force: usize = c.iter().map(Contact::n_force).sum();
-        let n_motion: usize = c.iter().map(Contact::n_motion).sum();
+        let n_motion: usize = (c.iter().filter(|c| c.soft.is_none()))
+            .map(Contact::n_motion)
+            .sum();
         let n_rows: usize = c.iter().map(Contact::n_rows).sum();
         let n_task_eq: usize = (self.tasks.entries().iter())
             .filter(|e| e.priority == 0)
@@ -184,21 +190,33 @@ impl TorqueForce {
                 &self.drift,
                 &mut self.mapped,
                 contact.motion_rows(),
+                &mut self.used,
             );
             let p = &mut self.problem;
-            copy_block(&mut p.a, (r_eq, 0), &self.mapped[i].a, (0, 0), (m, n));
-            p.b.rows_mut(r_eq, m)
-                .copy_from(&self.mapped[i].b.rows(0, m));
+            if let Some(weight) = contact.soft {
+                let rows = &self.mapped[i];
+                add_task_cost(&mut p.h, &mut p.g, rows, weight, 1.0, &mut self.scratch);
+            } else {
+                copy_block(&mut p.a, (r_eq, 0), &self.mapped[i].a, (0, 0), (m, n));
+                p.b.rows_mut(r_eq, m)
+                    .copy_from(&self.mapped[i].b.rows(0, m));
+                r_eq += m;
+            }
             add_force_terms(p, contact, &self.contact_forces, r_in, col, 1.0);
             col += contact.n_force();
-            r_eq += m;
             r_in += contact.n_rows();
         }
         // The stack: equalities, then costs, in its order.
         for entry in self.tasks.entries_mut() {
             let (priority, weight) = (entry.priority, entry.weight);
             let rows = entry.task.compute(model, s)?;
-            let i = map_rows(&self.map, &self.drift, &mut self.mapped, rows);
+            let i = map_rows(
+                &self.map,
+                &self.drift,
+                &mut self.mapped,
+                rows,
+                &mut self.used,
+            );
             let (mapped, p) = (&self.mapped[i], &mut self.problem);
             if priority == 0 {
                 let m = mapped.rows();
@@ -252,8 +270,26 @@ impl TorqueForce {
         safe_damping: f64,
         tau: &mut DVector<f64>,
     ) -> Option<FallbackReason> {
+        self.tick_with(model, state, t, (q, v), safe_damping, tau, |_, _| Ok(()))
+    }
+
+    /// [`Self::tick`] with `adjust` called between the model terms' update and the QP, to set
+    /// references that depend on them (a posture reference made consistent with the
+    /// Cartesian tasks, say); its error gives the safe command like the QP's.
+    #[allow(clippy::too_many_arguments)]
+    pub fn tick_with(
+        &mut self,
+        model: &Model,
+        state: &mut RobotState,
+        t: f64,
+        (q, v): (&[f64], &[f64]),
+        safe_damping: f64,
+        tau: &mut DVector<f64>,
+        adjust: impl FnOnce(&mut Self, &RobotState) -> Result<()>,
+    ) -> Option<FallbackReason> {
         torque_tick(model, state, q, v, safe_damping, tau, |state, tau| {
             self.tasks.update(t);
+            adjust(self, state)?;
             tau.copy_from(&self.compute(model, state)?.tau);
             Ok(())
         })
@@ -262,12 +298,15 @@ impl TorqueForce {
 
 /// `rows` (in ν̇) mapped to u = [τ; f] through ν̇ = G u + d: `(A G) u = b − A d`, written to
 /// a buffer of `mapped` with as many rows (added the first time that size is met); returns
-/// its index.
+/// its index. Rows that select dofs (a posture's) copy rows of G; otherwise only the columns
+/// of A with a non-zero entry (a foot's chain, a few held joints) enter the product, listed
+/// in `used` (nv entries, preallocated).
 fn map_rows(
     map: &DMatrix<f64>,
     drift: &DVector<f64>,
     mapped: &mut Vec<TaskRows>,
     rows: &TaskRows,
+    used: &mut [usize],
 ) -> usize {
     let (m, n, nv) = (rows.rows(), map.ncols(), map.nrows());
     let k = match mapped
@@ -282,20 +321,37 @@ fn map_rows(
     };
     let out = &mut mapped[k];
     let (a, g) = (rows.a.as_slice(), map.as_slice());
+    if let Some(first) = rows.selection {
+        for r in 0..m {
+            for c in 0..n {
+                out.a[(r, c)] = map[(first + r, c)];
+            }
+            out.b[r] = rows.b[r] - drift[first + r];
+        }
+        return k;
+    }
+    let mut count = 0;
+    for i in 0..nv {
+        if a[i * m..(i + 1) * m].iter().any(|x| *x != 0.0) {
+            used[count] = i;
+            count += 1;
+        }
+    }
+    let used = &used[..count];
     for c in 0..n {
         let gc = &g[c * nv..(c + 1) * nv];
         for r in 0..m {
             let mut acc = 0.0;
-            for (i, gi) in gc.iter().enumerate() {
-                acc += a[i * m + r] * gi;
+            for &i in used {
+                acc += a[i * m + r] * gc[i];
             }
             out.a[(r, c)] = acc;
         }
     }
     for r in 0..m {
         let mut acc = rows.b[r];
-        for (i, di) in drift.iter().enumerate() {
-            acc -= a[i * m + r] * di;
+        for &i in used {
+            acc -= a[i * m + r] * drift[i];
         }
         out.b[r] = acc;
     }

@@ -8,6 +8,8 @@ mod angular_momentum;
 mod com;
 mod contact_force;
 mod joint_bounds;
+mod joint_hold;
+mod orientation;
 mod posture;
 mod se3;
 pub mod velocity;
@@ -16,6 +18,8 @@ pub use angular_momentum::AngularMomentumTask;
 pub use com::ComTask;
 pub use contact_force::ContactForceTask;
 pub use joint_bounds::JointBoundsTask;
+pub use joint_hold::JointHoldTask;
+pub use orientation::{so3_acceleration, so3_distance, OrientationTask};
 pub use posture::PostureTask;
 pub use se3::{se3_error, Se3Reference, Se3Task};
 
