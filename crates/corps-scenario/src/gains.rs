@@ -361,6 +361,13 @@ impl TsidGains {
 
     /// Posture Kp per actuated joint (na entries) for `model`.
     pub fn posture_kp(&self, model: &Model) -> Result<DVector<f64>> {
+        self.posture.kp_per_joint(model)
+    }
+}
+
+impl PostureGains {
+    /// Kp per actuated joint (na entries) for `model`: `kp`, replaced by `groups`.
+    pub fn kp_per_joint(&self, model: &Model) -> Result<DVector<f64>> {
         let first = if model.has_free_flyer() { 6 } else { 0 };
         // (velocity index − first, name) of every joint but the free-flyer, in velocity order.
         let actuated: Vec<(usize, &str)> = model
@@ -369,8 +376,8 @@ impl TsidGains {
             .filter(|j| !matches!(j.kind, corps_model::JointKind::FreeFlyer))
             .map(|j| (j.idx_v - first, j.name.as_str()))
             .collect();
-        let mut kp = DVector::repeat(model.nv - first, self.posture.kp);
-        for (prefix, values) in &self.posture.groups {
+        let mut kp = DVector::repeat(model.nv - first, self.kp);
+        for (prefix, values) in &self.groups {
             let idx: Vec<usize> = actuated
                 .iter()
                 .filter(|(_, n)| n.starts_with(prefix.as_str()))

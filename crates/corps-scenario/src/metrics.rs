@@ -389,6 +389,21 @@ pub struct Metrics {
     pub first_estimator_error: Option<String>,
     /// Controlled time reached when Ctrl-C stopped the run (s); the log ends there.
     pub interrupted_at: Option<f64>,
+    /// The controller's own figures of the run (a state machine's cycles, say), with the
+    /// documents' beside them.
+    pub controller_report: Vec<ReportLine>,
+}
+
+/// One figure a controller reports about its run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ReportLine {
+    pub figure: String,
+    pub value: f64,
+    pub unit: String,
+    /// The documents' figure or bound, as text with its source ("< 0.01 (seed 001 L3031)").
+    pub thesis: Option<String>,
+    /// Whether corps meets it, where it is a bound.
+    pub met: Option<bool>,
 }
 
 fn row(
@@ -528,6 +543,16 @@ impl fmt::Display for Metrics {
                 "  safe command used on {} ticks; first: {r}",
                 self.fallbacks
             )?,
+        }
+        for line in &self.controller_report {
+            write!(f, "  {}: {:.4} {}", line.figure, line.value, line.unit)?;
+            match (&line.thesis, line.met) {
+                (Some(t), Some(met)) => {
+                    writeln!(f, "   (thesis {t}: {})", if met { "met" } else { "MISSED" })?
+                }
+                (Some(t), None) => writeln!(f, "   (thesis {t})")?,
+                _ => writeln!(f)?,
+            }
         }
         for c in self.against_thesis.iter().filter(|c| c.worse) {
             let (scale, unit) = if c.figure.starts_with("cost") {

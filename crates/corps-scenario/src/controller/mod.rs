@@ -2,15 +2,19 @@
 //! - A, `ik_position`: hierarchical velocity IK, integrated once, joint position servos;
 //! - B, `tsid_position`: TSID's inverse dynamics, integrated twice, joint position servos;
 //! - C, `tsid_torque`: TSID's inverse dynamics at the measured state, joint torques;
-//! - `passive_torque`: C under a global energy tank (seed 000 ch. 5), its gains file's `[tank]`.
+//! - `passive_torque`: C under a global energy tank (seed 000 ch. 5), its gains file's `[tank]`;
+//! - `soft_tasks`: seed 001's soft-tasks controller #2 on [τ; f] with its stepping state
+//!   machine (§2.6c, §2.7).
 
 mod hand_press;
 mod ik;
+pub mod soft_tasks;
 mod stabilized;
 mod tsid;
 
 pub use hand_press::HAND_CHANNELS;
 pub use ik::IkController;
+pub use soft_tasks::{SoftTasksConfig, SoftTasksController, SOFT_TASKS_CHANNELS};
 pub use stabilized::{behind_stabilizer, Stabilized};
 pub use tsid::{TsidController, TsidMode, POSTURE_CHANNELS, TANK_CHANNELS};
 
@@ -79,6 +83,7 @@ pub enum ControllerKind {
     TsidPosition,
     TsidTorque,
     PassiveTorque,
+    SoftTasks,
 }
 
 impl ControllerKind {
@@ -89,6 +94,7 @@ impl ControllerKind {
             ControllerKind::TsidPosition => "tsid_position",
             ControllerKind::TsidTorque => "tsid_torque",
             ControllerKind::PassiveTorque => "passive_torque",
+            ControllerKind::SoftTasks => "soft_tasks",
         }
     }
 
@@ -98,6 +104,9 @@ impl ControllerKind {
             ControllerKind::TsidPosition => "TSID (position)",
             ControllerKind::TsidTorque => "TSID (torque)",
             ControllerKind::PassiveTorque => "passive TSID (torque, energy tank)",
+            ControllerKind::SoftTasks => {
+                "soft tasks #2 on [τ; f] (seed 001), stepping state machine"
+            }
         }
     }
 }
@@ -141,6 +150,16 @@ pub trait WholeBodyController: Send {
     fn stabilizer_output(&self) -> Option<&StabilizerOutput> {
         None
     }
+    /// The references the controller chose itself this tick (a state machine's), which the
+    /// log and the metrics then compare with instead of the motion's; `None`: it tracks the
+    /// motion's.
+    fn tracked_targets(&self) -> Option<&Targets> {
+        None
+    }
+    /// The controller's own figures of the run so far, for the metrics.
+    fn report(&self) -> Vec<crate::metrics::ReportLine> {
+        Vec::new()
+    }
     /// Names of the controller's own log columns (the energy tank's signals, say).
     fn channels(&self) -> Vec<&'static str> {
         Vec::new()
@@ -163,6 +182,16 @@ impl ScenarioController {
     /// The balance stabilizer's output of the last tick, if there is a stabilizer.
     pub fn stabilizer_output(&self) -> Option<&StabilizerOutput> {
         self.inner.stabilizer_output()
+    }
+
+    /// The references the controller chose itself, if it did ([`WholeBodyController::tracked_targets`]).
+    pub fn tracked_targets(&self) -> Option<&Targets> {
+        self.inner.tracked_targets()
+    }
+
+    /// The controller's own figures of the run.
+    pub fn report(&self) -> Vec<crate::metrics::ReportLine> {
+        self.inner.report()
     }
 
     /// The controller's own log columns.

@@ -199,6 +199,14 @@ impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C>
         self.output.as_ref()
     }
 
+    fn report(&self) -> Vec<crate::metrics::ReportLine> {
+        self.inner.report()
+    }
+
+    fn tracked_targets(&self) -> Option<&Targets> {
+        self.inner.tracked_targets()
+    }
+
     fn channels(&self) -> Vec<&'static str> {
         self.inner.channels()
     }

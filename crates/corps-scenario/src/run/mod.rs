@@ -14,7 +14,7 @@ pub use columns::log_columns;
 use crate::controller::{
     self, behind_stabilizer, ControllerKind, IkController, ScenarioController,
 };
-use crate::controller::{TsidController, TsidMode};
+use crate::controller::{SoftTasksConfig, SoftTasksController, TsidController, TsidMode};
 use crate::error::{bail, invalid, Context, Result};
 use crate::estimation;
 use crate::gains;
@@ -199,6 +199,18 @@ impl ScenarioRun {
                 let ctrl = behind_stabilizer(inner, stabilizer.as_ref(), soles[0], mass, dt)
                     .context("controller.gains.stabilizer")?;
                 (ctrl, stabilizer.is_some())
+            }
+            ControllerKind::SoftTasks => {
+                let g: SoftTasksConfig =
+                    gains::load(&source, &section.set).context("controller.gains")?;
+                if press.is_some() {
+                    bail!("press: the soft-tasks controller has no force task");
+                }
+                let inner = SoftTasksController::new(&robot, g, &q, &v).context("controller")?;
+                (
+                    Box::new(inner) as Box<dyn controller::WholeBodyController>,
+                    false,
+                )
             }
         };
         let ankles = soles.map(|f| {
@@ -402,6 +414,7 @@ impl ScenarioRun {
             foot.force_mean = sum / outcome.ticks_run.max(1) as f64;
         }
         m.against_thesis = m.thesis_comparison();
+        m.controller_report = closed_loop.controller.report();
         Ok(RunResult {
             metrics: m,
             columns,

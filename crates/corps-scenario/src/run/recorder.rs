@@ -108,7 +108,7 @@ impl Observer<ScenarioController> for Recorder<'_, '_> {
         let m = &mut self.metrics;
         m.work += w;
         m.positive_work += w_pos;
-        let targets: &Targets = tick.references;
+        let targets: &Targets = tick.controller.tracked_targets().unwrap_or(tick.references);
         if walking {
             self.pgm.push(
                 truth.applied_torques.as_slice(),

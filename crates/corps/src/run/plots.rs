@@ -1,7 +1,8 @@
 //! PNG plots of a controller run: CoM against its reference, ZMP against its reference, feet
 //! heights and vertical forces, base position, controller time per tick; with a stabilizer,
 //! the ankle admittance's offsets and rates and each foot's CoP against its target; with an
-//! energy tank, its energy, its valves and the power bound (seed 000 §4.5's figures).
+//! energy tank, its energy, its valves and the power bound (seed 000 §4.5's figures); with a
+//! stepping state machine, its state and the feet's desired and measured forces.
 
 use crate::sim_cmd::plots::{draw_figures, Figure, Panel};
 use anyhow::{anyhow, Result};
@@ -191,6 +192,40 @@ pub fn write(
             ),
         ];
         figure("tank.png", format!("{title}: energy tank"), panels, 2);
+    }
+    // A stepping state machine's run (seed 001 Figs 2.5–2.8: FSM state, forces desired and
+    // measured).
+    if header.iter().any(|h| h == "fsm_state") {
+        let mut panels = vec![Panel::new(
+            "state machine",
+            "",
+            vec![
+                ("state (file order)".into(), column("fsm_state")?),
+                ("stance left".into(), column("stance_left")?),
+            ],
+        )];
+        for (k, side) in ["left", "right"].iter().enumerate() {
+            panels.push(Panel::new(
+                &format!("{side} foot normal force"),
+                "N",
+                vec![
+                    (
+                        "QP desired".into(),
+                        column(&format!("force_desired_{side}_z_N"))?,
+                    ),
+                    ("contact (simulator)".into(), foot_fz[k]),
+                ],
+            ));
+        }
+        panels.push(Panel::new(
+            "|measured (F/T) - desired| contact force",
+            "N",
+            vec![
+                ("left".into(), column("force_error_left_N")?),
+                ("right".into(), column("force_error_right_N")?),
+            ],
+        ));
+        figure("stepping.png", format!("{title}: stepping"), panels, 2);
     }
     // A hand's force task (a `[press]` scenario; seed 000 Fig 5.4).
     if header.iter().any(|h| h == "hand_force_N") {

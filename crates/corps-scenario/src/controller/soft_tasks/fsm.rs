@@ -1,0 +1,498 @@
+//! A stepping state machine read from data (seed 001 §2.7): each state names its CoM and
+//! swing-foot set-points, whether the swing foot is a contact, when it may leave (all its
+//! conditions hold after `min_time`, or `max_time` has passed) and the state that follows.
+//! FSM #2 (App. B.1, Table B.2) is five such states, `config/icub/soft_tasks.toml`:
+//!
+//! | state | CoM | swing foot | swing contact | leaves when |
+//! |---|---|---|---|---|
+//! | two-feet balancing | initial | initial | kept | after t_min |
+//! | CoM over the stance foot | over stance + δ_CoM | initial | kept | CoM error < e_CoM after t_min, or t_max |
+//! | stance-foot balancing | over stance | initial + δ_swing | released | feet error < e_feet, or t_max |
+//! | prepare touch-down | over stance | initial | released | feet error < e_feet after t_min, or t_max |
+//! | two-feet balancing, swap | initial | initial | on touch (F_z > F_zmin) | CoM error < e_CoM after t_min, or t_max |
+//!
+//! Errors are distances to the state's set-points (not to the smoothed references), the
+//! feet error the larger of the two feet's.
+
+use crate::error::{bail, Result};
+use crate::targets::Side;
+use nalgebra::Vector3;
+use serde::Deserialize;
+use std::collections::{BTreeSet, HashMap};
+
+/// Where a state puts the CoM.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ComSetpoint {
+    /// Where it was at the handover.
+    Initial,
+    /// Its lateral position on the stance foot's, x and height kept, plus `com_offset`.
+    OverStance,
+}
+
+/// Where a state puts the swing foot.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SwingSetpoint {
+    /// Its placement at the handover.
+    Initial,
+    /// Its placement at the handover moved by `swing_offset`.
+    Raised,
+}
+
+/// Whether the swing foot is a contact in a state.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SwingContact {
+    Kept,
+    Released,
+    /// Becomes a contact once its measured normal force exceeds `touchdown_force`.
+    OnTouch,
+}
+
+/// Conditions to leave a state; all given ones must hold (none: only `min_time`).
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Conditions {
+    /// CoM distance to its set-point below this (m).
+    pub com_error_below: Option<f64>,
+    /// Both feet's distances to their set-points below this (m).
+    pub feet_error_below: Option<f64>,
+}
+
+/// One state.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct StateConfig {
+    pub name: String,
+    pub com: ComSetpoint,
+    pub swing: SwingSetpoint,
+    pub swing_contact: SwingContact,
+    /// The next state.
+    pub next: String,
+    /// Conditions count only after this time in the state (s).
+    #[serde(default)]
+    pub min_time: f64,
+    /// Leave after this time in the state whatever the conditions (s).
+    pub max_time: Option<f64>,
+    #[serde(default)]
+    pub when: Conditions,
+    /// Stance and swing feet exchange roles when the state is left.
+    #[serde(default)]
+    pub swap_feet_on_exit: bool,
+}
+
+/// The machine (`[fsm]`).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FsmConfig {
+    /// The foot that stands first.
+    pub first_stance: Side,
+    /// Duration of the minimum-jerk move towards each new set-point (s).
+    pub t_smooth: f64,
+    /// δ_CoM: added to the CoM set-point over the stance foot (m, world).
+    pub com_offset: [f64; 3],
+    /// δ_swingfoot: the raised swing foot's offset from its initial position (m, world).
+    pub swing_offset: [f64; 3],
+    /// F_zmin: the normal force at which a landing swing foot becomes a contact (N).
+    pub touchdown_force: f64,
+    /// The states; the first is the initial one.
+    pub states: Vec<StateConfig>,
+}
+
+fn positive_or_zero(what: &str, x: f64) -> Result<()> {
+    if !(x >= 0.0 && x.is_finite()) {
+        bail!("{what} = {x}: must be finite and not negative");
+    }
+    Ok(())
+}
+
+impl FsmConfig {
+    /// Checks the machine: unique names, known `next` states, every state reachable from the
+    /// first, thresholds positive, times not negative, `max_time ≥ min_time`.
+    pub fn check(&self) -> Result<()> {
+        if self.states.is_empty() {
+            bail!("fsm.states: the state machine has no state");
+        }
+        positive_or_zero("fsm.t_smooth", self.t_smooth)?;
+        positive_or_zero("fsm.touchdown_force", self.touchdown_force)?;
+        for (k, x) in self.com_offset.iter().chain(&self.swing_offset).enumerate() {
+            if !x.is_finite() {
+                bail!("fsm offsets: entry {k} is {x}");
+            }
+        }
+        let mut index = HashMap::new();
+        for (k, s) in self.states.iter().enumerate() {
+            if index.insert(s.name.as_str(), k).is_some() {
+                bail!("fsm.states: two states are named '{}'", s.name);
+            }
+        }
+        for s in &self.states {
+            let at = format!("fsm state '{}'", s.name);
+            if !index.contains_key(s.next.as_str()) {
+                bail!("{at}: next state '{}' is not defined", s.next);
+            }
+            positive_or_zero(&format!("{at}: min_time"), s.min_time)?;
+            if let Some(max) = s.max_time {
+                if !(max.is_finite() && max >= s.min_time) {
+                    bail!(
+                        "{at}: max_time = {max} must be finite and at least min_time = {}",
+                        s.min_time
+                    );
+                }
+            }
+            for (name, x) in [
+                ("com_error_below", s.when.com_error_below),
+                ("feet_error_below", s.when.feet_error_below),
+            ] {
+                if let Some(x) = x {
+                    if !(x > 0.0 && x.is_finite()) {
+                        bail!("{at}: when.{name} = {x}: a distance threshold must be positive");
+                    }
+                }
+            }
+        }
+        let mut seen = BTreeSet::new();
+        let mut k = 0;
+        while seen.insert(k) {
+            k = index[self.states[k].next.as_str()];
+        }
+        if let Some(s) = (0..self.states.len()).find(|k| !seen.contains(k)) {
+            bail!(
+                "fsm state '{}' is never reached from the first state '{}'",
+                self.states[s].name,
+                self.states[0].name
+            );
+        }
+        Ok(())
+    }
+}
+
+/// What the machine reads each tick (world, the estimator's).
+pub struct FsmInput {
+    pub t: f64,
+    pub com: Vector3<f64>,
+    /// Sole positions, left then right.
+    pub feet: [Vector3<f64>; 2],
+    /// Measured normal forces on the soles, left then right (N).
+    pub normal_forces: [f64; 2],
+}
+
+/// The running machine.
+pub struct StateMachine {
+    config: FsmConfig,
+    next: Vec<usize>,
+    current: usize,
+    entered_at: f64,
+    stance: Side,
+    swing_in_contact: bool,
+    com0: Vector3<f64>,
+    feet0: [Vector3<f64>; 2],
+    com_setpoint: Vector3<f64>,
+    swing_setpoint: Vector3<f64>,
+    /// Completed steps (feet swaps).
+    pub steps: usize,
+}
+
+impl StateMachine {
+    /// Starts in the first state at `t`, from the handover's CoM and soles.
+    pub fn new(config: FsmConfig, t: f64, com0: Vector3<f64>, feet0: [Vector3<f64>; 2]) -> Self {
+        let next = (config.states.iter())
+            .map(|s| {
+                (config.states.iter())
+                    .position(|o| o.name == s.next)
+                    .unwrap_or(0)
+            })
+            .collect();
+        let stance = config.first_stance;
+        let mut m = Self {
+            config,
+            next,
+            current: 0,
+            entered_at: t,
+            stance,
+            swing_in_contact: true,
+            com0,
+            feet0,
+            com_setpoint: com0,
+            swing_setpoint: Vector3::zeros(),
+            steps: 0,
+        };
+        m.enter(0, t);
+        m
+    }
+
+    fn state(&self) -> &StateConfig {
+        &self.config.states[self.current]
+    }
+
+    /// The stance foot.
+    pub fn stance(&self) -> Side {
+        self.stance
+    }
+
+    /// The swing foot.
+    pub fn swing(&self) -> Side {
+        match self.stance {
+            Side::Left => Side::Right,
+            Side::Right => Side::Left,
+        }
+    }
+
+    /// Whether the swing foot is a contact now.
+    pub fn swing_in_contact(&self) -> bool {
+        self.swing_in_contact
+    }
+
+    /// Index of the current state in the file's order.
+    pub fn current(&self) -> usize {
+        self.current
+    }
+
+    pub fn current_name(&self) -> &str {
+        &self.state().name
+    }
+
+    /// The CoM set-point of the current state.
+    pub fn com_setpoint(&self) -> Vector3<f64> {
+        self.com_setpoint
+    }
+
+    /// The set-point of foot `side` (the stance foot's is its initial position).
+    pub fn foot_setpoint(&self, side: Side) -> Vector3<f64> {
+        if side == self.swing() {
+            self.swing_setpoint
+        } else {
+            self.feet0[side.index()]
+        }
+    }
+
+    /// The smoothing time of set-point changes.
+    pub fn t_smooth(&self) -> f64 {
+        self.config.t_smooth
+    }
+
+    fn enter(&mut self, k: usize, t: f64) {
+        self.current = k;
+        self.entered_at = t;
+        let s = &self.config.states[k];
+        let stance0 = self.feet0[self.stance.index()];
+        let swing = self.swing().index();
+        self.com_setpoint = match s.com {
+            ComSetpoint::Initial => self.com0,
+            ComSetpoint::OverStance => {
+                Vector3::new(self.com0.x, stance0.y, self.com0.z)
+                    + Vector3::from(self.config.com_offset)
+            }
+        };
+        self.swing_setpoint = match s.swing {
+            SwingSetpoint::Initial => self.feet0[swing],
+            SwingSetpoint::Raised => self.feet0[swing] + Vector3::from(self.config.swing_offset),
+        };
+        self.swing_in_contact = match s.swing_contact {
+            SwingContact::Kept => true,
+            SwingContact::Released => false,
+            // Stays as it was until the foot touches.
+            SwingContact::OnTouch => self.swing_in_contact,
+        };
+    }
+
+    /// Advances the machine one tick; returns whether the state or the contacts changed.
+    pub fn update(&mut self, input: &FsmInput) -> bool {
+        let mut changed = false;
+        let s = self.state().clone();
+        if s.swing_contact == SwingContact::OnTouch
+            && !self.swing_in_contact
+            && input.normal_forces[self.swing().index()] > self.config.touchdown_force
+        {
+            self.swing_in_contact = true;
+            changed = true;
+        }
+        let elapsed = input.t - self.entered_at;
+        let com_ok =
+            (s.when.com_error_below).is_none_or(|e| (input.com - self.com_setpoint).norm() < e);
+        let feet_error = [Side::Left, Side::Right]
+            .map(|side| (input.feet[side.index()] - self.foot_setpoint(side)).norm());
+        let feet_ok = (s.when.feet_error_below).is_none_or(|e| feet_error.iter().all(|f| *f < e));
+        let timed_out = s.max_time.is_some_and(|m| elapsed >= m);
+        if (elapsed >= s.min_time && com_ok && feet_ok) || timed_out {
+            if s.swap_feet_on_exit {
+                self.stance = self.swing();
+                self.steps += 1;
+            }
+            let next = self.next[self.current];
+            self.enter(next, input.t);
+            changed = true;
+        }
+        changed
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const FSM2: &str = r#"
+first_stance = "left"
+t_smooth = 2.0
+com_offset = [0.0, 0.0, 0.0]
+swing_offset = [-0.025, 0.0, 0.025]
+touchdown_force = 0.1
+
+[[states]]
+name = "balancing"
+com = "initial"
+swing = "initial"
+swing_contact = "kept"
+next = "com_to_stance"
+min_time = 2.0
+
+[[states]]
+name = "com_to_stance"
+com = "over_stance"
+swing = "initial"
+swing_contact = "kept"
+next = "stance_balancing"
+min_time = 2.0
+max_time = 6.0
+when = { com_error_below = 0.025 }
+
+[[states]]
+name = "stance_balancing"
+com = "over_stance"
+swing = "raised"
+swing_contact = "released"
+next = "prepare_touchdown"
+max_time = 6.0
+when = { feet_error_below = 0.025 }
+
+[[states]]
+name = "prepare_touchdown"
+com = "over_stance"
+swing = "initial"
+swing_contact = "released"
+next = "two_feet"
+min_time = 2.0
+max_time = 6.0
+when = { feet_error_below = 0.025 }
+
+[[states]]
+name = "two_feet"
+com = "initial"
+swing = "initial"
+swing_contact = "on_touch"
+next = "com_to_stance"
+min_time = 2.0
+max_time = 6.0
+when = { com_error_below = 0.025 }
+swap_feet_on_exit = true
+"#;
+
+    fn fsm2() -> FsmConfig {
+        toml::from_str(FSM2).unwrap()
+    }
+
+    fn input(t: f64, m: &StateMachine, fz: [f64; 2]) -> FsmInput {
+        // A robot that follows its set-points exactly.
+        FsmInput {
+            t,
+            com: m.com_setpoint(),
+            feet: [Side::Left, Side::Right].map(|s| m.foot_setpoint(s)),
+            normal_forces: fz,
+        }
+    }
+
+    #[test]
+    fn fsm2_steps_through_its_states_and_swaps_the_feet() {
+        let c = fsm2();
+        c.check().unwrap();
+        let feet0 = [Vector3::new(0.0, 0.07, 0.0), Vector3::new(0.0, -0.07, 0.0)];
+        let mut m = StateMachine::new(c, 0.0, Vector3::new(0.01, 0.0, 0.5), feet0);
+        let mut visited = vec![m.current_name().to_string()];
+        let (mut t, dt) = (0.0, 0.01);
+        let mut saw_released = false;
+        while t < 40.0 {
+            t += dt;
+            // The landing foot touches 0.5 s into the last state.
+            let fz = if m.current_name() == "two_feet" {
+                [5.0, 5.0]
+            } else {
+                [0.0, 0.0]
+            };
+            let i = input(t, &m, fz);
+            if m.update(&i) && visited.last().map(String::as_str) != Some(m.current_name()) {
+                visited.push(m.current_name().to_string());
+            }
+            saw_released |= !m.swing_in_contact();
+            if m.current_name() == "com_to_stance" {
+                let y_stance = feet0[m.stance().index()].y;
+                assert_eq!(m.com_setpoint().y, y_stance);
+            }
+        }
+        assert!(saw_released);
+        assert_eq!(
+            &visited[..6],
+            [
+                "balancing",
+                "com_to_stance",
+                "stance_balancing",
+                "prepare_touchdown",
+                "two_feet",
+                "com_to_stance"
+            ]
+        );
+        assert!(m.steps >= 2, "steps {}", m.steps);
+    }
+
+    #[test]
+    fn a_machine_that_cannot_leave_times_out() {
+        let mut c = fsm2();
+        c.states[1].when.com_error_below = Some(1e-9);
+        let mut m = StateMachine::new(c, 0.0, Vector3::zeros(), [Vector3::y(), -Vector3::y()]);
+        let far = |t| FsmInput {
+            t,
+            com: Vector3::new(1.0, 1.0, 1.0),
+            feet: [Vector3::y(), -Vector3::y()],
+            normal_forces: [0.0; 2],
+        };
+        m.update(&far(2.0));
+        assert_eq!(m.current_name(), "com_to_stance");
+        m.update(&far(7.9));
+        assert_eq!(m.current_name(), "com_to_stance");
+        m.update(&far(8.0));
+        assert_eq!(m.current_name(), "stance_balancing");
+    }
+
+    #[test]
+    fn bad_machines_are_refused_with_the_state_named() {
+        let mut c = fsm2();
+        c.states[4].next = "nowhere".into();
+        assert!(c
+            .check()
+            .unwrap_err()
+            .to_string()
+            .contains("'nowhere' is not defined"));
+        let mut c = fsm2();
+        c.states[3].next = "balancing".into();
+        // two_feet is now unreachable.
+        assert!(c
+            .check()
+            .unwrap_err()
+            .to_string()
+            .contains("'two_feet' is never reached"));
+        let mut c = fsm2();
+        c.states[1].when.com_error_below = Some(-0.025);
+        assert!(c
+            .check()
+            .unwrap_err()
+            .to_string()
+            .contains("must be positive"));
+        let mut c = fsm2();
+        c.states[2].max_time = Some(1.0);
+        c.states[2].min_time = 2.0;
+        assert!(c.check().unwrap_err().to_string().contains("max_time"));
+        let mut c = fsm2();
+        c.states[2].name = "two_feet".into();
+        assert!(c.check().unwrap_err().to_string().contains("two states"));
+    }
+}

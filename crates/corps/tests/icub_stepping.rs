@@ -1,0 +1,111 @@
+//! Seed 001 S2 (issue 18, Deliver 2–4): iCub stepping in place under the soft-tasks
+//! controller #2 and FSM #2 (`scenarios/icub/fsm2_stepping.toml`), the controller reading the
+//! sensors through the estimator. The test runs 60 s (4 strides); the thesis's 50 cycles run
+//! from `corps run scenarios/icub/fsm2_stepping.toml --duration 720`, whose output RESULTS.md
+//! records (53 strides). Every thesis figure the controller reports is printed beside corps';
+//! those corps misses must be exactly the known ones, which RESULTS.md lists with their causes.
+
+use corps::run::{run_file, RunOptions};
+use corps_loop::verdict::Verdict;
+use std::path::PathBuf;
+
+fn scenario(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/icub")
+        .join(name)
+}
+
+/// The report lines missed in a 60 s run: the cycle count (the test runs 4 of the thesis's
+/// 50) and the CoM's vertical error (the reference keeps the handover's height while the
+/// CoM dips as it moves over a foot; RESULTS.md).
+const KNOWN: [&str; 2] = [
+    "strides (two steps each)",
+    "CoM error z (estimate − reference), peak",
+];
+
+#[test]
+fn fsm2_steps_in_place_within_the_thesis_bounds() {
+    let out = tempfile::tempdir().unwrap();
+    let m = run_file(
+        &scenario("fsm2_stepping.toml"),
+        Some(out.path()),
+        Some(60.0),
+        RunOptions::quiet(),
+    )
+    .unwrap()
+    .metrics;
+    println!("{m}");
+    assert_eq!(m.verdict.verdict, Verdict::Completed, "{}", m.verdict);
+    assert_eq!(m.fallbacks, 0, "{:?}", m.first_fallback);
+    let line = |name: &str| {
+        (m.controller_report.iter())
+            .find(|l| l.figure == name)
+            .unwrap_or_else(|| panic!("no report line '{name}'"))
+    };
+    assert!(line("strides (two steps each)").value >= 4.0);
+    // ≈ 14 s per stride (seed 001 L3132–L3136): within 20 %.
+    let stride = line("stride duration").value;
+    assert!((stride - 14.0).abs() < 0.2 * 14.0, "stride {stride:.2} s");
+    for l in &m.controller_report {
+        if let (Some(thesis), Some(met)) = (&l.thesis, l.met) {
+            println!(
+                "{:<58} corps {:>9.4} {:<2} thesis {thesis}{}",
+                l.figure,
+                l.value,
+                l.unit,
+                if met { "" } else { "  (missed)" }
+            );
+            assert_eq!(
+                met,
+                !KNOWN.contains(&l.figure.as_str()),
+                "{}: corps {:.4} {} against the thesis's {thesis}: {}",
+                l.figure,
+                l.value,
+                l.unit,
+                if met {
+                    "now met, strike it from the known shortfalls"
+                } else {
+                    "a new shortfall"
+                }
+            );
+        }
+    }
+    // The true CoM (the simulator's) against the references, estimator drift included.
+    for (axis, s) in ["x", "y"].iter().zip(&m.com_error) {
+        println!("true CoM error {axis}: peak {:.1} mm", s.peak * 1e3);
+        assert!(s.peak < 0.01);
+    }
+}
+
+#[test]
+fn a_state_machine_or_a_frame_that_cannot_be_is_refused_before_the_run() {
+    let text = std::fs::read_to_string(scenario("fsm2_stepping.toml")).unwrap();
+    for (set, expected) in [
+        (
+            r#"set = { neck = { frame = "no_such_frame", kp = 1.5 } }"#,
+            "no_such_frame",
+        ),
+        (r#"set = { fsm = { t_smooth = -1.0 } }"#, "fsm.t_smooth"),
+        (
+            r#"set = { contacts = { fz_min = 10.0, fz_max = 5.0, mu = 1.0, mu_torsion = 0.01, vertices_per_quadrant = 4 } }"#,
+            "fz_max",
+        ),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bad.toml");
+        let text = text.replace("settle = 0.5", &format!("settle = 0.5\n{set}"));
+        std::fs::write(&path, text).unwrap();
+        let err = run_file(
+            &path,
+            Some(&dir.path().join("out")),
+            Some(1.0),
+            RunOptions::quiet(),
+        )
+        .err()
+        .expect("refused");
+        let msg = format!("{err:#}");
+        println!("{msg}");
+        assert!(msg.contains(expected), "{msg}");
+        assert!(!dir.path().join("out").join("log.csv").exists());
+    }
+}
