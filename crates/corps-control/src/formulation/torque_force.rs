@@ -25,7 +25,7 @@ use crate::robot_state::RobotState;
 use crate::stack::TaskStack;
 use crate::tasks::{ContactForceTask, TaskLevel, TaskRows};
 use crate::FallbackReason;
-use corps_model::{factorize_branch_sparse, solve_mass_matrix, Model};
+use corps_model::{compute_minverse, Data, Model};
 use corps_qp::{ActiveSetSolver, QpProblem};
 use nalgebra::{DMatrix, DVector};
 
@@ -52,12 +52,11 @@ pub struct TorqueForce {
     /// τ_min ≤ τ ≤ τ_max (na each), when set.
     pub actuation: Option<(DVector<f64>, DVector<f64>)>,
     first: usize,
-    /// The LᵀDL factor of M.
-    ltdl: DMatrix<f64>,
+    /// Workspace of the M⁻¹ recursion.
+    minv_data: Data,
     /// G = M⁻¹[Sᵀ J_cᵀ] (nv × n) and d = −M⁻¹h.
     map: DMatrix<f64>,
     drift: DVector<f64>,
-    column: DVector<f64>,
     /// A task's rows mapped to u, one buffer per row count met so far.
     mapped: Vec<TaskRows>,
     /// The non-zero columns of a task's rows (nv entries).
@@ -80,10 +79,9 @@ impl TorqueForce {
             torque_weight: 1e-4,
             actuation: None,
             first,
-            ltdl: DMatrix::zeros(model.nv, model.nv),
+            minv_data: Data::new(model),
             map: DMatrix::zeros(model.nv, na),
             drift: DVector::zeros(model.nv),
-            column: DVector::zeros(model.nv),
             mapped: Vec::new(),
             used: vec![0; model.nv],
             problem: QpProblem::new(na, 0, 0),
@@ -146,31 +144,33 @@ impl TorqueForce {
         for contact in &mut self.contacts {
             contact.compute(model, s)?;
         }
-        // G = M⁻¹[Sᵀ J_cᵀ], d = −M⁻¹h through the LᵀDL factor of M.
-        self.ltdl.copy_from(&s.data.m);
-        factorize_branch_sparse(model, &mut self.ltdl)?;
-        for c in 0..n {
-            self.column.fill(0.0);
-            if c < na {
-                self.column[first + c] = 1.0;
-            } else {
-                let mut j = c - na;
-                for contact in &self.contacts {
-                    if j < contact.n_force() {
-                        for i in 0..nv {
-                            self.column[i] = contact.jc[(j, i)];
-                        }
-                        break;
-                    }
-                    j -= contact.n_force();
-                }
-            }
-            solve_mass_matrix(model, &self.ltdl, self.column.as_mut_slice());
-            self.map.set_column(c, &self.column);
+        // G = M⁻¹[Sᵀ J_cᵀ], d = −M⁻¹h, with M⁻¹ by the O(n²) recursion: the torque columns
+        // are columns of M⁻¹, the force columns M⁻¹ J_cᵀ.
+        let minv = compute_minverse(model, &mut self.minv_data, s.q.as_slice())?;
+        let (mv, nvs) = (minv.as_slice(), nv);
+        for c in 0..na {
+            let src = &mv[(first + c) * nvs..(first + c + 1) * nvs];
+            self.map.column_mut(c).copy_from_slice(src);
         }
-        self.drift.copy_from(&s.data.nle);
-        solve_mass_matrix(model, &self.ltdl, self.drift.as_mut_slice());
-        self.drift.neg_mut();
+        let mut c = na;
+        let map = self.map.as_mut_slice();
+        for contact in &self.contacts {
+            for j in 0..contact.n_force() {
+                let out = &mut map[c * nvs..(c + 1) * nvs];
+                out.fill(0.0);
+                for i in 0..nvs {
+                    let w = contact.jc[(j, i)];
+                    if w != 0.0 {
+                        let col = &mv[i * nvs..(i + 1) * nvs];
+                        for (o, m) in out.iter_mut().zip(col) {
+                            *o += w * m;
+                        }
+                    }
+                }
+                c += 1;
+            }
+        }
+        self.drift.gemv(-1.0, minv, &s.data.nle, 0.0);
 
         for buf in [
             self.problem.h.as_mut_slice(),
