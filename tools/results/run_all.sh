@@ -88,6 +88,7 @@ out=$(mktemp -d)
   python3 tools/results/passive_robustness.py --corps ./target/release/corps
   cat tools/results/human_prediction.md
   bash tools/results/actuators.sh ./target/release/corps
+  bash tools/results/icub_stepping.sh ./target/release/corps
   cat tools/results/joint_limits.md
   cat tools/results/bad_input.md
 } > RESULTS.md.partial
