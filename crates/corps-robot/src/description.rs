@@ -53,6 +53,10 @@ pub struct Description {
     /// smaller (some URDFs give zero) gets its principal moments raised to it, so that the
     /// dynamics stay regular. Absent: the URDF's inertias as they are.
     pub inertia_floor: Option<f64>,
+    /// Rigid bodies the URDF lacks, fixed to a link (a battery pack on the back): each is
+    /// merged into the inertia of the body that carries its link.
+    #[serde(default)]
+    pub added_bodies: Vec<AddedBodySpec>,
     /// Links whose URDF collision shapes the simulator ignores (a placeholder shape, a body
     /// that must not touch the ground).
     #[serde(default)]
@@ -119,6 +123,23 @@ pub struct FrameSpec {
     /// Orientation in the parent frame, roll-pitch-yaw (rad), as URDF's `rpy`.
     #[serde(default)]
     pub rpy: [f64; 3],
+}
+
+/// A rigid body fixed to a link: its mass, its centre of mass and its inertia about that
+/// centre, both in the link's frame.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct AddedBodySpec {
+    pub name: String,
+    /// The link (a frame of the model) it is fixed to.
+    pub link: String,
+    /// kg, > 0.
+    pub mass: f64,
+    /// Centre of mass in the link frame (m).
+    pub com: [f64; 3],
+    /// Inertia about the centre of mass, link axes: [ixx, iyy, izz, ixy, ixz, iyz] (kg·m²),
+    /// positive definite.
+    pub inertia: [f64; 6],
 }
 
 /// A foot: its sole frame, sole rectangle and sensors.

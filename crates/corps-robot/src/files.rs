@@ -5,9 +5,13 @@
 use std::path::{Component, Path, PathBuf};
 
 /// The built-in robots: name and the description's path in [`EMBEDDED`].
-pub const BUILT_IN: [(&str, &str); 3] = [
+pub const BUILT_IN: [(&str, &str); 4] = [
     ("talos", "robots/talos_data/talos.toml"),
     ("icub", "robots/icub_description/icub.toml"),
+    (
+        "icub_backpacked",
+        "robots/icub_description/icub_backpacked.toml",
+    ),
     (
         "simple_humanoid",
         "robots/simple_humanoid_description/simple_humanoid.toml",
@@ -38,6 +42,7 @@ pub const EMBEDDED: &[(&str, &str)] = embed!(
     "config/talos/tsid_torque_posture_success.toml",
     "config/talos/passive_torque_posture_fail.toml",
     "robots/icub_description/icub.toml",
+    "robots/icub_description/icub_backpacked.toml",
     "robots/icub_description/robots/icub.urdf",
     "robots/icub_description/srdf/icub.srdf",
     "config/icub/tsid_torque.toml",

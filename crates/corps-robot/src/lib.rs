@@ -4,7 +4,7 @@
 //! lacks, gains files and fall criteria — read from one description file beside the URDF
 //! ([`description`]). Libraries take a [`Robot`]; none holds a robot's constant.
 //!
-//! TALOS, iCub and simple_humanoid are built in ([`files::BUILT_IN`]); another robot is a
+//! TALOS, iCub (also with a battery pack) and simple_humanoid are built in ([`files::BUILT_IN`]); another robot is a
 //! description file, which [`init::draft`] starts from its URDF.
 //!
 //! ```

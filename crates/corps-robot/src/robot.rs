@@ -6,7 +6,7 @@ use crate::description::{Description, FootContact, SoleSpec};
 use crate::fall::Criteria;
 use crate::files::{FileSource, BUILT_IN};
 use corps_model::spatial::rotation::rpy_to_matrix;
-use corps_model::spatial::Se3;
+use corps_model::spatial::{Inertia, Se3};
 use corps_model::{
     build_model_from_urdf_str, forward_kinematics_placements, CollisionGeometry, Data, Frame,
     FrameKind, Model, RootJoint, Shape,
@@ -128,6 +128,7 @@ impl Robot {
             message,
         };
         let text = source.read(path).map_err(&invalid)?;
+        let text = extended(text, path, &source, 0).map_err(&invalid)?;
         let description: Description = crate::toml_text::parse(&text).map_err(&invalid)?;
         let dir = path.parent().unwrap_or(Path::new("")).to_path_buf();
         Loader {
@@ -193,6 +194,10 @@ impl Loader {
                 ));
             }
             raise_inertias(&mut model, floor);
+        }
+        for (k, b) in d.added_bodies.iter().enumerate() {
+            add_body(&mut model, b)
+                .map_err(|e| format!("added_bodies[{k}] ('{}'): {e}", b.name))?;
         }
         for (k, f) in d.frames.iter().enumerate() {
             add_frame(&mut model, f).map_err(|e| format!("frames[{k}]: {e}"))?;
@@ -353,6 +358,92 @@ impl Loader {
 }
 
 /// Raises every body's principal moments of inertia (about its centre of mass) to `floor`.
+/// Descriptions deeper than this in a chain of `extends` are refused (a loop, most likely).
+const MAX_EXTENDS: usize = 4;
+
+/// A description's text with its `extends = "base.toml"` resolved: the base description (in
+/// the same directory) with this file's keys replacing or completing its own, tables merged
+/// key by key, arrays and values replaced. Text without `extends` comes back as it is.
+fn extended(text: String, path: &Path, source: &FileSource, depth: usize) -> Checked<String> {
+    let Ok(mut table) = text.parse::<toml::Table>() else {
+        return Ok(text); // the strict reading reports the syntax error
+    };
+    let Some(base) = table.remove("extends") else {
+        return Ok(text);
+    };
+    let toml::Value::String(base) = base else {
+        return Err("extends: must be the file name of a description in the same directory".into());
+    };
+    let rel = Path::new(&base);
+    if rel.components().count() != 1 {
+        return Err(format!(
+            "extends: '{base}' must be a description in the same directory (its paths resolve from there)"
+        ));
+    }
+    if depth >= MAX_EXTENDS {
+        return Err(format!(
+            "extends: more than {MAX_EXTENDS} descriptions deep (a loop?)"
+        ));
+    }
+    let base_path = path.parent().unwrap_or(Path::new("")).join(rel);
+    let base_text = source
+        .read(&base_path)
+        .map_err(|e| format!("extends: {e}"))?;
+    let base_text = extended(base_text, &base_path, source, depth + 1)
+        .map_err(|e| format!("extends '{base}': {e}"))?;
+    let mut merged: toml::Table = base_text
+        .parse()
+        .map_err(|e: toml::de::Error| format!("extends '{base}': {}", e.message()))?;
+    merge(&mut merged, table);
+    toml::to_string(&merged).map_err(|e| format!("extends: {e}"))
+}
+
+/// `over`'s keys into `base`: tables merged key by key, anything else replaced.
+fn merge(base: &mut toml::Table, over: toml::Table) {
+    for (key, value) in over {
+        match (base.get_mut(&key), value) {
+            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge(b, o),
+            (_, value) => {
+                base.insert(key, value);
+            }
+        }
+    }
+}
+
+/// Merges the rigid body `b` into the inertia of the body that carries its link.
+fn add_body(model: &mut Model, b: &crate::description::AddedBodySpec) -> Checked<()> {
+    if !(b.mass > 0.0 && b.mass.is_finite()) {
+        return Err(format!("mass must be a finite number > 0, got {}", b.mass));
+    }
+    let [xx, yy, zz, xy, xz, yz] = b.inertia;
+    let inertia = nalgebra::Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz);
+    let eig = nalgebra::SymmetricEigen::new(inertia);
+    if !inertia.iter().all(|x| x.is_finite()) || eig.eigenvalues.min() <= 0.0 {
+        return Err(format!(
+            "inertia must be positive definite, its principal moments are {:?}",
+            eig.eigenvalues.as_slice()
+        ));
+    }
+    let [a, bb, c] = eig.eigenvalues.into();
+    if a + bb < c || a + c < bb || bb + c < a {
+        return Err("inertia breaks the triangle inequality of a rigid body's moments".into());
+    }
+    if !b.com.iter().all(|x| x.is_finite()) {
+        return Err(format!("com must be finite, got {:?}", b.com));
+    }
+    let link = model
+        .frames
+        .iter()
+        .find(|f| f.name == b.link)
+        .ok_or_else(|| format!("no link named '{}'", b.link))?;
+    let joint = link
+        .parent_joint
+        .ok_or_else(|| format!("link '{}' is fixed to the world", b.link))?;
+    let body = Inertia::new(b.mass, Vector3::from(b.com), inertia).transformed(&link.placement);
+    model.inertias[joint] += body;
+    Ok(())
+}
+
 fn raise_inertias(model: &mut Model, floor: f64) {
     for body in model.inertias.iter_mut() {
         let eig = nalgebra::SymmetricEigen::new(body.inertia);

@@ -71,7 +71,7 @@ pub struct RunArgs {
     /// replacing the scenario's; see `scenarios/sensors/`.
     #[arg(long, value_name = "FILE")]
     noise: Option<PathBuf>,
-    /// The robot, replacing the scenario's: `talos`, `icub`, `simple_humanoid` or a robot
+    /// The robot, replacing the scenario's: `talos`, `icub`, `icub_backpacked`, `simple_humanoid` or a robot
     /// description file (`robots/*/*.toml`).
     #[arg(long, value_name = "ROBOT")]
     robot: Option<String>,

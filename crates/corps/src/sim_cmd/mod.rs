@@ -29,7 +29,7 @@ pub struct SimArgs {
     /// Size cap of the log in MB (replaces `[output] max_log_mb`, default 1024).
     #[arg(long, value_name = "MB")]
     max_log_mb: Option<f64>,
-    /// The robot, replacing the scenario's: `talos`, `icub`, `simple_humanoid` or a robot
+    /// The robot, replacing the scenario's: `talos`, `icub`, `icub_backpacked`, `simple_humanoid` or a robot
     /// description file (`robots/*/*.toml`).
     #[arg(long, value_name = "ROBOT")]
     robot: Option<String>,
