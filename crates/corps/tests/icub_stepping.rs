@@ -123,6 +123,10 @@ fn a_state_machine_or_a_frame_that_cannot_be_is_refused_before_the_run() {
             r#"set = { contacts = { fz_min = 10.0, fz_max = 5.0, mu = 1.0, mu_torsion = 0.01, vertices_per_quadrant = 4 } }"#,
             "fz_max",
         ),
+        (
+            r#"set = { posture_reference_deg = { r_elbow = 10.0 }, joint_limits = { law = "reparametrised", xi_max = 2.6, limits_deg = { r_elbow = [15.0, 106.0] } } }"#,
+            "not inside its limits",
+        ),
     ] {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("bad.toml");
@@ -140,5 +144,55 @@ fn a_state_machine_or_a_frame_that_cannot_be_is_refused_before_the_run() {
         println!("{msg}");
         assert!(msg.contains(expected), "{msg}");
         assert!(!dir.path().join("out").join("log.csv").exists());
+    }
+}
+
+/// The smallest distance of the right elbow to its limit over a run of
+/// `scenarios/icub/s7_elbow_{law}.toml`, and the verdict.
+fn s7(law: &str) -> (f64, Verdict) {
+    let out = tempfile::tempdir().unwrap();
+    let m = run_file(
+        &scenario(&format!("s7_elbow_{law}.toml")),
+        Some(out.path()),
+        None,
+        RunOptions::quiet(),
+    )
+    .unwrap_or_else(|e| panic!("{e:#}"))
+    .metrics;
+    println!("{m}");
+    let margin = (m.controller_report.iter())
+        .find(|l| l.figure == "smallest distance to a joint limit (r_elbow)")
+        .expect("the elbow's margin")
+        .value;
+    (margin, m.verdict.verdict)
+}
+
+/// Seed 001 S7 (issue 18, Deliver 5): stepping with the right elbow's reference at 22.5°, 7.5°
+/// from its 15° limit, the right hand pushed as Table 3.2 says. The thesis: the classical PD
+/// lets a push take the elbow past its limit, the re-parametrised law (Eq 3.27) never does, and
+/// the robot recovers from every push. corps: the elbow claim holds (the classical law passes
+/// the limit, the re-parametrised one stays inside), but under both laws the robot falls after
+/// the first push (15 N forward for 1 s at 5 s, on one foot), a shortfall in RESULTS.md with
+/// its measured cause. When the runs complete, this test fails: check the thesis's recovery.
+#[test]
+fn s7_the_reparametrised_posture_keeps_the_elbow_inside_its_limit() {
+    let (classical, classical_end) = s7("classical");
+    let (reparametrised, reparametrised_end) = s7("reparametrised");
+    println!(
+        "elbow margin: classical {classical:.2}°, re-parametrised {reparametrised:.2}° \
+         (thesis: classical past the limit, re-parametrised never); verdicts {classical_end:?}, \
+         {reparametrised_end:?} (thesis: both recover)"
+    );
+    assert!(classical < 0.0, "the classical law stayed inside the limit");
+    assert!(
+        reparametrised > 0.0,
+        "the re-parametrised law left the limits"
+    );
+    for end in [classical_end, reparametrised_end] {
+        assert_ne!(
+            end,
+            Verdict::Completed,
+            "S7 now completes: strike the fall from RESULTS.md's shortfalls and check the recovery"
+        );
     }
 }

@@ -83,6 +83,29 @@ pub struct PostureConsistency {
     pub weight: f64,
 }
 
+/// The posture's law near joint limits.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Law {
+    /// `s̈* = −K_p s̃ − K_d ṡ`.
+    Classical,
+    /// Seed 001's Eq 3.27 on `s = δ tanh ξ + s₀`.
+    Reparametrised,
+}
+
+/// `[joint_limits]`: the posture's law, the clamp of ξ and limits replacing the model's.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct JointLimitsConfig {
+    pub law: Law,
+    /// ξ is clamped at ±xi_max (seed 001 whole-body: atanh(0.99), L4336–L4344).
+    pub xi_max: f64,
+    /// Joint → [lower, upper] in degrees, replacing the model's (seed 001 Table 3.1); their
+    /// distance to the limits is reported.
+    #[serde(default)]
+    pub limits_deg: std::collections::BTreeMap<String, [f64; 2]>,
+}
+
 /// The whole file.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -97,6 +120,11 @@ pub struct SoftTasksConfig {
     pub feet: FeetGains,
     pub neck: OrientationGains,
     pub posture: PostureGains,
+    /// Joint → degrees: the posture reference of these joints, replacing the handover's.
+    #[serde(default)]
+    pub posture_reference_deg: std::collections::BTreeMap<String, f64>,
+    /// The posture's law near the joint limits (absent: classical, the model's limits).
+    pub joint_limits: Option<JointLimitsConfig>,
     /// Absent: the posture task pulls towards the handover's posture with its own PD.
     pub posture_consistency: Option<PostureConsistency>,
     pub contacts: WrenchContactGains,

@@ -16,6 +16,7 @@
 
 mod config;
 pub mod fsm;
+mod posture_law;
 mod report;
 mod smoothing;
 
@@ -37,6 +38,7 @@ use corps_model::Model;
 use corps_robot::Robot;
 use fsm::{FsmInput, StateMachine};
 use nalgebra::{DVector, Matrix3, Vector3, Vector6};
+use posture_law::PostureLaw;
 use report::SteppingStats;
 use smoothing::Smoothed;
 use std::sync::Arc;
@@ -44,8 +46,9 @@ use std::sync::Arc;
 /// The controller's log columns: the state (index in the file), steps completed, the stance
 /// foot (1 left, 0 right), the QP's normal forces and the distance between measured (F/T
 /// through the estimator) and QP-desired contact forces per foot, that distance outside the
-/// switching windows (NaN inside), and the neck's distance δ (Eq 2.16) to its reference.
-pub const SOFT_TASKS_CHANNELS: [&str; 10] = [
+/// switching windows (NaN inside), the neck's distance δ (Eq 2.16) to its reference, and the
+/// smallest distance of a watched joint to its limits (degrees, negative past one).
+pub const SOFT_TASKS_CHANNELS: [&str; 11] = [
     "fsm_state",
     "fsm_steps",
     "stance_left",
@@ -56,6 +59,7 @@ pub const SOFT_TASKS_CHANNELS: [&str; 10] = [
     "force_error_left_outside_switching_N",
     "force_error_right_outside_switching_N",
     "neck_distance",
+    "joint_limit_margin_deg",
 ];
 
 struct Foot {
@@ -79,10 +83,10 @@ pub struct SoftTasksController {
     command: Command,
     /// Time of the last contact change (s).
     last_switch: f64,
-    /// The posture PD (outside the stack) and Eq B.3's workspace, when the posture's
-    /// reference is made consistent with the Cartesian tasks.
-    consistency: Option<(PostureTask, ConsistentPosture, DVector<f64>)>,
-    signals: [f64; 10],
+    /// The posture's law (classical or re-parametrised), its accelerations (na) and Eq B.3's
+    /// workspace when the posture's reference is made consistent with the Cartesian tasks.
+    posture: (PostureLaw, DVector<f64>, Option<ConsistentPosture>),
+    signals: [f64; 11],
     stats: SteppingStats,
     steps_seen: usize,
 }
@@ -130,20 +134,19 @@ impl SoftTasksController {
         tf.tasks.add("neck", neck, 1, w.neck)?;
         let kp = config.posture.kp_per_joint(&model)?;
         let kd = kp.map(|k| 2.0 * k.sqrt());
-        let consistency = match &config.posture_consistency {
-            Some(p) => {
-                let pd = PostureTask::new(&model, kp.clone(), kd.clone(), q.clone());
-                let merge = ConsistentPosture::new(nv, p.weight, p.base_gain);
-                Some((pd, merge, DVector::zeros(na)))
-            }
-            None => None,
-        };
-        // With the consistent reference the posture task tracks s̈* with no PD of its own.
-        let (kp, kd) = match consistency {
-            Some(_) => (DVector::zeros(na), DVector::zeros(na)),
-            None => (kp, kd),
-        };
-        let posture = PostureTask::new(&model, kp, kd, q.clone());
+        let law = PostureLaw::new(
+            &model,
+            kp,
+            kd,
+            q,
+            &config.posture_reference_deg,
+            config.joint_limits.as_ref(),
+        )?;
+        let merge = (config.posture_consistency.as_ref())
+            .map(|p| ConsistentPosture::new(nv, p.weight, p.base_gain));
+        let posture_law = (law, DVector::zeros(na), merge);
+        // The posture task tracks the law's accelerations (or Eq B.3's s̈*): no PD of its own.
+        let posture = PostureTask::new(&model, DVector::zeros(na), DVector::zeros(na), q.clone());
         tf.tasks.add("posture", posture, 1, config.posture.weight)?;
         if let Some(h) = &config.held {
             let kd = h.kd.unwrap_or(2.0 * h.kp.sqrt());
@@ -236,8 +239,8 @@ impl SoftTasksController {
             tau: DVector::zeros(na),
             command: Command::Torque(DVector::zeros(na)),
             last_switch: f64::NEG_INFINITY,
-            consistency,
-            signals: [f64::NAN; 10],
+            posture: posture_law,
+            signals: [f64::NAN; 11],
             stats: SteppingStats::new(),
             steps_seen: 0,
             config,
@@ -374,6 +377,9 @@ impl SoftTasksController {
             self.steps_seen = self.fsm.steps;
             self.stats.swapped(t);
         }
+        let (margin, joint) = self.posture.0.margin(&self.state.q);
+        s[10] = margin.to_degrees();
+        self.stats.joint_margin(margin, joint);
         s[9] = match self.tf.tasks.task::<OrientationTask>("neck") {
             Some(neck) => neck.distance(&self.model, &self.state).unwrap_or(f64::NAN),
             None => f64::NAN,
@@ -381,20 +387,28 @@ impl SoftTasksController {
     }
 }
 
-/// Sets the stack's posture reference acceleration to s̈* of the rebuilt Eq B.3
-/// ([`corps_control::posture_consistency`]): the posture PD `pd` merged with every
-/// priority-1 task but the posture and every soft contact, at their QP weights.
-fn consistent_posture(
+/// Sets the stack's posture reference acceleration: the law's, or, with `merge`, s̈* of the
+/// rebuilt Eq B.3 ([`corps_control::posture_consistency`]), the law's accelerations merged
+/// with every priority-1 task but the posture and every soft contact, at their QP weights.
+fn posture_reference(
     model: &Model,
     tf: &mut TorqueForce,
     s: &RobotState,
-    pd: &mut PostureTask,
-    merge: &mut ConsistentPosture,
-    out: &mut DVector<f64>,
+    (law, out, merge): &mut (PostureLaw, DVector<f64>, Option<ConsistentPosture>),
 ) -> corps_control::Result<()> {
+    law.accelerations(s, out)
+        .map_err(|e| corps_control::ControlError::Config {
+            name: "posture".into(),
+            reason: e.to_string(),
+        })?;
+    let Some(merge) = merge else {
+        if let Some(posture) = tf.tasks.task_mut::<PostureTask>("posture") {
+            posture.a_ref.copy_from(out);
+        }
+        return Ok(());
+    };
     let first = model.first_actuated();
-    let joint_pd = &pd.compute(model, s)?.b;
-    merge.begin(&s.v, first, joint_pd);
+    merge.begin(&s.v, first, out);
     for entry in tf.tasks.entries_mut() {
         if entry.priority == 1 && entry.name != "posture" {
             let w = entry.weight;
@@ -434,7 +448,7 @@ impl WholeBodyController for SoftTasksController {
         }
         self.set_references(t);
         let model = self.model.clone();
-        let consistency = &mut self.consistency;
+        let posture = &mut self.posture;
         let reason = self.tf.tick_with(
             &model,
             &mut self.state,
@@ -442,10 +456,7 @@ impl WholeBodyController for SoftTasksController {
             (q, v),
             self.config.safe_damping,
             &mut self.tau,
-            |tf, s| match consistency {
-                Some((pd, merge, out)) => consistent_posture(&model, tf, s, pd, merge, out),
-                None => Ok(()),
-            },
+            |tf, s| posture_reference(&model, tf, s, posture),
         );
         if let Command::Torque(tau) = &mut self.command {
             tau.copy_from(&self.tau);
@@ -467,7 +478,32 @@ impl WholeBodyController for SoftTasksController {
     }
 
     fn report(&self) -> Vec<crate::metrics::ReportLine> {
-        self.stats.lines()
+        let law = &self.posture.0;
+        let mut lines = self.stats.lines();
+        if let Some((margin, joint)) = self.stats.smallest_margin() {
+            let (thesis, met) = match law.law() {
+                config::Law::Reparametrised => (
+                    "the re-parametrised law never leaves the limits (seed 001 L4432–L4488)",
+                    Some(margin > 0.0),
+                ),
+                config::Law::Classical => (
+                    "classical PD: the elbow passes its limit under a −15 N push (seed 001 L4432–L4488)",
+                    None,
+                ),
+            };
+            lines.push(crate::metrics::ReportLine {
+                figure: format!("smallest distance to a joint limit ({})", law.name(joint)),
+                value: margin.to_degrees(),
+                unit: "°".into(),
+                thesis: self
+                    .config
+                    .joint_limits
+                    .as_ref()
+                    .map(|_| thesis.to_string()),
+                met: met.filter(|_| self.config.joint_limits.is_some()),
+            });
+        }
+        lines
     }
 
     fn channels(&self) -> Vec<&'static str> {

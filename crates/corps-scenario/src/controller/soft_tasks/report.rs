@@ -21,6 +21,8 @@ pub struct SteppingStats {
     switch_force_peak: f64,
     /// Times of the feet swaps.
     swaps: Vec<f64>,
+    /// The smallest distance to a joint limit (rad) and its joint.
+    margin: Option<(f64, usize)>,
 }
 
 impl SteppingStats {
@@ -56,6 +58,18 @@ impl SteppingStats {
                 self.switch_force_peak = self.switch_force_peak.max(e);
             }
         }
+    }
+
+    /// A tick's smallest distance to a joint limit (rad) and its joint.
+    pub fn joint_margin(&mut self, margin: f64, joint: usize) {
+        if self.margin.is_none_or(|(m, _)| margin < m) {
+            self.margin = Some((margin, joint));
+        }
+    }
+
+    /// The run's smallest distance to a joint limit (rad) and its joint.
+    pub fn smallest_margin(&self) -> Option<(f64, usize)> {
+        self.margin
     }
 
     /// A feet swap (a step completed) at `t`.

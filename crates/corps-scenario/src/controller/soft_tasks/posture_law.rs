@@ -1,0 +1,168 @@
+//! The posture's reference acceleration per joint, by the classical PD
+//! `s̈* = −K_p (s − s_d) − K_d ṡ` or by seed 001's re-parametrised law (Eq 3.27)
+//! `s̈* = −J⁻¹K_p ξ̃ − J⁻¹K_d J⁻¹ ṡ` that keeps each joint inside its limits
+//! ([`corps_control::joint_limits`]) on the joints whose limits the file gives (seed 001
+//! applies it to all 23 with its Table 3.1 limits), and the run's smallest distance to a
+//! limit.
+
+use super::config::{JointLimitsConfig, Law};
+use crate::error::{bail, Result};
+use corps_control::joint_limits::{postural_acceleration, TanhJointMap};
+use corps_control::RobotState;
+use corps_model::{JointKind, Model};
+use nalgebra::DVector;
+
+pub struct PostureLaw {
+    /// (configuration index, velocity index − first) of each actuated one-dof joint.
+    joints: Vec<(usize, usize)>,
+    names: Vec<String>,
+    lower: Vec<f64>,
+    upper: Vec<f64>,
+    map: TanhJointMap,
+    law: Law,
+    kp: DVector<f64>,
+    kd: DVector<f64>,
+    /// The posture reference, per joint of `joints`.
+    reference: Vec<f64>,
+    /// The joints whose limits the file gives: the re-parametrised law acts on them (the
+    /// others keep the classical PD) and their margin is watched (else every joint's).
+    watched: Vec<usize>,
+    given: Vec<bool>,
+}
+
+impl PostureLaw {
+    /// The law for the actuated joints of `model` (all one-dof), gains per actuated dof,
+    /// the reference posture `q_ref` with `overrides_deg` (joint → degrees) and the limits of
+    /// the model with `limits`' replacements. The re-parametrised law refuses a reference on
+    /// or outside a joint's limits (seed 001 §2.9, Assumption 2).
+    pub fn new(
+        model: &Model,
+        kp: DVector<f64>,
+        kd: DVector<f64>,
+        q_ref: &DVector<f64>,
+        overrides_deg: &std::collections::BTreeMap<String, f64>,
+        limits: Option<&JointLimitsConfig>,
+    ) -> Result<Self> {
+        let first = model.first_actuated();
+        let (mut joints, mut names, mut lower, mut upper, mut reference) =
+            (vec![], vec![], vec![], vec![], vec![]);
+        for j in model
+            .joints
+            .iter()
+            .filter(|j| j.kind != JointKind::FreeFlyer)
+        {
+            if j.nq() != 1 || j.nv() != 1 {
+                bail!("posture: joint '{}' has more than one dof", j.name);
+            }
+            joints.push((j.idx_q, j.idx_v - first));
+            names.push(j.name.clone());
+            let (mut lo, mut hi) = (
+                model.lower_position_limit[j.idx_q],
+                model.upper_position_limit[j.idx_q],
+            );
+            if let Some([a, b]) = limits.and_then(|l| l.limits_deg.get(&j.name)) {
+                (lo, hi) = (a.to_radians(), b.to_radians());
+            }
+            lower.push(lo);
+            upper.push(hi);
+            reference.push(match overrides_deg.get(&j.name) {
+                Some(deg) => deg.to_radians(),
+                None => q_ref[j.idx_q],
+            });
+        }
+        for name in overrides_deg
+            .keys()
+            .chain(limits.iter().flat_map(|l| l.limits_deg.keys()))
+        {
+            if !names.contains(name) {
+                bail!("posture: no actuated joint named '{name}'");
+            }
+        }
+        let law = limits.map_or(Law::Classical, |l| l.law);
+        let xi_max = limits.map_or(1.0, |l| l.xi_max);
+        // A joint without finite limits cannot be re-parametrised: it keeps a wide box.
+        let (lo, hi): (Vec<f64>, Vec<f64>) = (lower.iter().zip(&upper))
+            .map(|(l, u)| {
+                if l.is_finite() && u.is_finite() && u > l {
+                    (*l, *u)
+                } else {
+                    (-1e3, 1e3)
+                }
+            })
+            .unzip();
+        let map = TanhJointMap::new(&lo, &hi, xi_max)?;
+        if law == Law::Reparametrised {
+            for (i, r) in reference.iter().enumerate() {
+                let listed = limits.is_some_and(|l| l.limits_deg.contains_key(&names[i]));
+                if listed && map.xi_of_reference(i, *r).is_err() {
+                    bail!(
+                        "posture: the reference of '{}' ({:.2}°) is not inside its limits [{:.2}°, {:.2}°], which the re-parametrised law needs",
+                        names[i],
+                        r.to_degrees(),
+                        lo[i].to_degrees(),
+                        hi[i].to_degrees()
+                    );
+                }
+            }
+        }
+        let given: Vec<usize> = (0..names.len())
+            .filter(|&i| limits.is_some_and(|l| l.limits_deg.contains_key(&names[i])))
+            .collect();
+        let mask = (0..names.len()).map(|i| given.contains(&i)).collect();
+        let watched = if given.is_empty() {
+            (0..names.len()).collect()
+        } else {
+            given
+        };
+        Ok(Self {
+            watched,
+            given: mask,
+            joints,
+            names,
+            lower: lo,
+            upper: hi,
+            map,
+            law,
+            kp,
+            kd,
+            reference,
+        })
+    }
+
+    /// The reference accelerations of the actuated dofs into `out` (na).
+    pub fn accelerations(&self, s: &RobotState, out: &mut DVector<f64>) -> Result<()> {
+        for (i, &(iq, ia)) in self.joints.iter().enumerate() {
+            let (q, v) = (s.q[iq], s.v[ia + (s.v.len() - out.len())]);
+            let (kp, kd, r) = (self.kp[ia], self.kd[ia], self.reference[i]);
+            out[ia] = match self.law {
+                Law::Reparametrised if self.given[i] => {
+                    postural_acceleration(&self.map, i, q, v, (r, 0.0, 0.0), kp, kd)?
+                }
+                _ => -kp * (q - r) - kd * v,
+            };
+        }
+        Ok(())
+    }
+
+    /// The smallest distance of a watched joint (those whose limits the file gives, else
+    /// every one) to one of its limits at `q` (rad; negative past it) and that joint's index.
+    pub fn margin(&self, q: &DVector<f64>) -> (f64, usize) {
+        let mut best = (f64::INFINITY, 0);
+        for &i in &self.watched {
+            let iq = self.joints[i].0;
+            let m = (q[iq] - self.lower[i]).min(self.upper[i] - q[iq]);
+            if m < best.0 {
+                best = (m, i);
+            }
+        }
+        best
+    }
+
+    pub fn name(&self, i: usize) -> &str {
+        &self.names[i]
+    }
+
+    pub fn law(&self) -> Law {
+        self.law
+    }
+}
