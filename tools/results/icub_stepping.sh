@@ -27,6 +27,25 @@ echo '```text'
   | grep -E "^  (error|CoM  |strides|CoM error . .*peak|feet error|stride|state|verdict)" || echo "(the run stopped with an error)"
 echo '```'
 echo
+echo "The strict-tasks controller (Eq 2.40: \`strict = true\`, the CoM, neck and swing-foot tasks and the"
+echo "feet in contact as equalities) on the same state machine, 60 s (seed 001 S3 gives no numbers:"
+echo "\"too stiff, bad for stability\", L2245–L2257):"
+echo
+sed 's/^settle = 0.5/settle = 0.5\nset = { strict = true }/' "$scenario" > "$out/strict.toml"
+echo '```text'
+"$corps" run "$out/strict.toml" --duration 60 -o "$out/strict" 2>&1 \
+  | grep -E "^  (CoM  |strides|safe|verdict)" || echo "(the run stopped with an error)"
+echo '```'
+echo
+echo "Controller #2 with controller #1's torque bounds (Table A.3: \`torque_rate = 50\` N·m/s, so 0.5 N·m"
+echo "per 10 ms tick, and \`torque_limit = 60\` N·m), 60 s:"
+echo
+sed 's/^settle = 0.5/settle = 0.5\nset = { torque_rate = 50.0, torque_limit = 60.0 }/' "$scenario" > "$out/rate.toml"
+echo '```text'
+"$corps" run "$out/rate.toml" --duration 60 -o "$out/rate" 2>&1 \
+  | grep -E "^  (CoM  |strides|safe|verdict)" || echo "(the run stopped with an error)"
+echo '```'
+echo
 echo "The backpacked iCub (\`--robot icub_backpacked\`: \`robots/icub_description/icub_backpacked.toml\`,"
 echo "a 1.8 kg pack on the chest, our assumption), same gains and state machine, 720 s:"
 echo
@@ -89,6 +108,13 @@ none.
 - **Joint limits in the simulator**: corps-sim does not enforce joint limits. During the
   stepping the right hip roll reaches 31°, 13.9° past the URDF's 17° (seed 001 Table 3.1 gives
   hip roll [−12°, 80°] in its own conventions).
-- Not built: controllers (a) strict-tasks and (b) soft-tasks #1, FSM #1 and S1.
+- **Strict tasks** (S3): the QP turns infeasible at 14.7 s and the run diverges at 28.8 s (the
+  thesis shows no results, "too stiff").
+- **The torque-rate bound with held joints**: under 0.5 N·m per tick the QP is infeasible from
+  the first contact release (4.47 s) and the robot falls: the held joints' acceleration
+  equalities need torque jumps the bound forbids. Seed 001's controller #1 had no held joints
+  (23 DOF); corps' iCub keeps 32.
+- Not built: controller #1's configuration (Tables A.2–A.7) and FSM #1 (11 states), so S1 is not
+  run; the rate bound and the strict formulation it needs are.
 TEXT
 rm -rf "$out"

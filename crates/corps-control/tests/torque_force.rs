@@ -170,3 +170,71 @@ fn a_priority_zero_task_is_an_equality_and_a_tick_allocates_nothing() {
     }
     assert_eq!(allocations() - before, 0);
 }
+
+/// The torque-rate bound of seed 001 Eq 2.43c, `|τ − τ₋₁| ≤ τ̇_max t_s`: starting from zero
+/// torques, each tick's torques move at most the step from the last tick's, until they reach
+/// the unbounded answer; without the bound the first tick jumps there at once.
+#[test]
+fn the_torque_rate_bound_limits_each_ticks_change() {
+    let (model, q, _, _) = standing();
+    let state = moving_state(&model, &q);
+    let v = state.v.clone();
+    let na = model.nv - 6;
+    let mut free = torque_force(&model, &state, &q);
+    let unbounded = free.compute(&model, &state).unwrap().tau.clone();
+    let mut tf = torque_force(&model, &state, &q);
+    tf.torque_step = Some(0.5);
+    let mut st = RobotState::new(&model);
+    let mut tau = DVector::zeros(na);
+    let mut last = DVector::zeros(na);
+    // The first tick has no previous command: unbounded.
+    let r = tf.tick(
+        &model,
+        &mut st,
+        0.0,
+        q.as_slice(),
+        v.as_slice(),
+        5.0,
+        &mut tau,
+    );
+    assert!(r.is_none());
+    assert!((&tau - &unbounded).amax() < 1e-6);
+    // Jump the state: the next answer is elsewhere, reached at 0.5 N·m per tick.
+    let mut v2 = v.clone();
+    for k in 6..model.nv {
+        v2[k] = -v2[k] * 3.0;
+    }
+    let mut far = RobotState::new(&model);
+    far.update(&model, q.as_slice(), v2.as_slice()).unwrap();
+    let target = free.compute(&model, &far).unwrap().tau.clone();
+    let gap = (&target - &tau).amax();
+    println!("the answer moves by {gap:.2} N·m");
+    assert!(gap > 2.0);
+    last.copy_from(&tau);
+    let mut ticks = 0;
+    loop {
+        ticks += 1;
+        let r = tf.tick(
+            &model,
+            &mut st,
+            0.001 * ticks as f64,
+            q.as_slice(),
+            v2.as_slice(),
+            5.0,
+            &mut tau,
+        );
+        assert!(r.is_none(), "{r:?}");
+        assert!(
+            (&tau - &last).amax() <= 0.5 + 1e-9,
+            "moved {}",
+            (&tau - &last).amax()
+        );
+        last.copy_from(&tau);
+        if (&tau - &target).amax() < 1e-6 {
+            break;
+        }
+        assert!(ticks < 100);
+    }
+    println!("reached in {ticks} ticks");
+    assert!(ticks as f64 >= (gap / 0.5).floor());
+}

@@ -123,6 +123,7 @@ fn a_state_machine_or_a_frame_that_cannot_be_is_refused_before_the_run() {
             r#"set = { contacts = { fz_min = 10.0, fz_max = 5.0, mu = 1.0, mu_torsion = 0.01, vertices_per_quadrant = 4 } }"#,
             "fz_max",
         ),
+        (r#"set = { torque_rate = -50.0 }"#, "torque_rate"),
         (
             r#"set = { posture_reference_deg = { r_elbow = 10.0 }, joint_limits = { law = "reparametrised", xi_max = 2.6, limits_deg = { r_elbow = [15.0, 106.0] } } }"#,
             "not inside its limits",

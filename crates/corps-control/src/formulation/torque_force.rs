@@ -51,6 +51,11 @@ pub struct TorqueForce {
     pub torque_weight: f64,
     /// τ_min ≤ τ ≤ τ_max (na each), when set.
     pub actuation: Option<(DVector<f64>, DVector<f64>)>,
+    /// The torque-rate bound of seed 001's Eq 2.40d / 2.43c, `|τ − τ₋₁| ≤ τ̇_max t_s`: the
+    /// largest change of each torque from the last tick's command (N·m), when set.
+    pub torque_step: Option<f64>,
+    /// The last tick's command, for the torque-rate bound (None before the first tick).
+    last_tau: Option<DVector<f64>>,
     first: usize,
     /// Workspace of the M⁻¹ recursion.
     minv_data: Data,
@@ -78,6 +83,8 @@ impl TorqueForce {
             contact_forces: Vec::new(),
             torque_weight: 1e-4,
             actuation: None,
+            torque_step: None,
+            last_tau: None,
             first,
             minv_data: Data::new(model),
             map: DMatrix::zeros(model.nv, na),
@@ -240,6 +247,25 @@ impl TorqueForce {
             p.lx.rows_mut(0, na).copy_from(lower);
             p.ux.rows_mut(0, na).copy_from(upper);
         }
+        if let (Some(step), Some(last)) = (self.torque_step, &self.last_tau) {
+            if !(step > 0.0 && step.is_finite()) {
+                return Err(ControlError::Config {
+                    name: "torque_step".into(),
+                    reason: format!("must be positive and finite, got {step}"),
+                });
+            }
+            for k in 0..na {
+                // Within the rate bound and the actuation bounds; a last command outside the
+                // latter (a safe command) is moved towards them at the rate.
+                let (a, b) = (last[k] - step, last[k] + step);
+                let (mut lo, mut hi) = (a.max(p.lx[k]), b.min(p.ux[k]));
+                if lo > hi {
+                    (lo, hi) = if a > p.ux[k] { (a, a) } else { (b, b) };
+                }
+                p.lx[k] = lo;
+                p.ux[k] = hi;
+            }
+        }
         Ok(())
     }
 
@@ -287,12 +313,19 @@ impl TorqueForce {
         tau: &mut DVector<f64>,
         adjust: impl FnOnce(&mut Self, &RobotState) -> Result<()>,
     ) -> Option<FallbackReason> {
-        torque_tick(model, state, q, v, safe_damping, tau, |state, tau| {
+        let reason = torque_tick(model, state, q, v, safe_damping, tau, |state, tau| {
             self.tasks.update(t);
             adjust(self, state)?;
             tau.copy_from(&self.compute(model, state)?.tau);
             Ok(())
-        })
+        });
+        if self.torque_step.is_some() {
+            match &mut self.last_tau {
+                Some(last) => last.copy_from(tau),
+                None => self.last_tau = Some(tau.clone()),
+            }
+        }
+        reason
     }
 }
 

@@ -206,7 +206,8 @@ impl ScenarioRun {
                 if press.is_some() {
                     bail!("press: the soft-tasks controller has no force task");
                 }
-                let inner = SoftTasksController::new(&robot, g, &q, &v).context("controller")?;
+                let inner =
+                    SoftTasksController::new(&robot, g, dt, &q, &v).context("controller")?;
                 (
                     Box::new(inner) as Box<dyn controller::WholeBodyController>,
                     false,

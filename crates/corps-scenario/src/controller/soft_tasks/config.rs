@@ -115,6 +115,16 @@ pub struct SoftTasksConfig {
     /// Bound the torques by the URDF effort limits.
     #[serde(default)]
     pub actuation_bounds: bool,
+    /// τ_max: a cap on every joint's torque below its effort limit (N·m; seed 001 Table A.3:
+    /// 60), with `actuation_bounds`.
+    pub torque_limit: Option<f64>,
+    /// τ̇_max: the torque-rate bound |τ − τ₋₁| ≤ τ̇_max t_s of Eq 2.40d / 2.43c (N·m/s;
+    /// Table A.3: 50). Absent: none (controller #2).
+    pub torque_rate: Option<f64>,
+    /// The strict-tasks controller (Eq 2.40): the Cartesian tasks (CoM, orientation, swing
+    /// foot) and the feet in contact as equalities, the posture and torques in the cost.
+    #[serde(default)]
+    pub strict: bool,
     pub weights: Weights,
     pub com: Pd,
     pub feet: FeetGains,
@@ -164,8 +174,14 @@ impl SoftTasksConfig {
             ("posture.weight", self.posture.weight),
             ("safe_damping", self.safe_damping),
             ("switching_window", self.switching_window),
+            ("torque_limit", self.torque_limit.unwrap_or(0.0)),
         ] {
             non_negative(name, x)?;
+        }
+        if let Some(r) = self.torque_rate {
+            if !(r > 0.0 && r.is_finite()) {
+                bail!("torque_rate = {r}: must be positive and finite (N·m/s)");
+            }
         }
         let c = &self.contacts;
         non_negative("contacts.fz_min", c.fz_min)?;

@@ -100,10 +100,12 @@ fn at_rest(placement: Se3) -> Se3Reference {
 }
 
 impl SoftTasksController {
-    /// The controller for `robot` at the measured state (q, v), both feet on the ground.
+    /// The controller for `robot` at the measured state (q, v), both feet on the ground,
+    /// ticking every `dt` seconds.
     pub fn new(
         robot: &Robot,
         config: SoftTasksConfig,
+        dt: f64,
         q: &DVector<f64>,
         v: &DVector<f64>,
     ) -> Result<Self> {
@@ -122,7 +124,10 @@ impl SoftTasksController {
             Vector3::repeat(config.com.kd()),
         );
         com.reference = Reference::constant(DVector::from_column_slice(state.data.com.as_slice()));
-        tf.tasks.add("com", com, 1, w.com)?;
+        // Soft tasks in the cost (controllers #1, #2), or the Cartesian tasks as equalities
+        // (the strict-tasks controller, Eq 2.40c).
+        let cartesian = if config.strict { 0 } else { 1 };
+        tf.tasks.add("com", com, cartesian, w.com)?;
         let neck_frame = model.frame_id(&config.neck.frame)?;
         let neck = OrientationTask::new(
             nv,
@@ -131,7 +136,7 @@ impl SoftTasksController {
             config.neck.kd.unwrap_or(2.0 * config.neck.kp.sqrt()),
             at_rest(state.frame_placement(&model, neck_frame)?),
         );
-        tf.tasks.add("neck", neck, 1, w.neck)?;
+        tf.tasks.add("neck", neck, cartesian, w.neck)?;
         let kp = config.posture.kp_per_joint(&model)?;
         let kd = kp.map(|k| 2.0 * k.sqrt());
         let law = PostureLaw::new(
@@ -154,12 +159,11 @@ impl SoftTasksController {
             tf.tasks.add("held joints", hold, 0, 1.0)?;
         }
         if config.actuation_bounds {
-            let limit = model
-                .effort_limit
-                .rows(model.first_actuated(), na)
-                .into_owned();
+            let cap = config.torque_limit.unwrap_or(f64::INFINITY);
+            let limit = (model.effort_limit.rows(model.first_actuated(), na)).map(|e| e.min(cap));
             tf.actuation = Some((-&limit, limit));
         }
+        tf.torque_step = config.torque_rate.map(|rate| rate * dt);
         let c = &config.contacts;
         let f = &config.feet;
         let kp = Vector6::new(
@@ -207,7 +211,7 @@ impl SoftTasksController {
                 kd,
                 at_rest(placement),
             );
-            contact.soft = Some(w.stance);
+            contact.soft = (!config.strict).then_some(w.stance);
             tf.contacts.push(contact.clone());
             // Its swing task enters the stack while the foot is in the air.
             let swing_task = format!("swing {}", sole.frame_name);
