@@ -52,17 +52,6 @@ fn torque_force(model: &Model, state: &RobotState, q: &DVector<f64>) -> TorqueFo
     tf
 }
 
-/// A state off equilibrium: the CoM reference 2 cm aside and the joints moving.
-fn moving_state(model: &Model, q: &DVector<f64>) -> RobotState {
-    let mut v = DVector::zeros(model.nv);
-    for k in 6..model.nv {
-        v[k] = 0.05 * ((k as f64) * 0.7).sin();
-    }
-    let mut state = RobotState::new(model);
-    state.update(model, q.as_slice(), v.as_slice()).unwrap();
-    state
-}
-
 #[test]
 fn the_torque_force_optimum_is_the_acceleration_force_optimum() {
     let (model, q, _, _) = standing();

@@ -67,16 +67,6 @@ fn formulation(model: &Model, state: &RobotState, q: &DVector<f64>, wrench: bool
     tf
 }
 
-fn moving_state(model: &Model, q: &DVector<f64>) -> RobotState {
-    let mut v = DVector::zeros(model.nv);
-    for k in 6..model.nv {
-        v[k] = 0.05 * ((k as f64) * 0.7).sin();
-    }
-    let mut state = RobotState::new(model);
-    state.update(model, q.as_slice(), v.as_slice()).unwrap();
-    state
-}
-
 fn set_com(tf: &mut TorqueForce, offset: Vector3<f64>) {
     let com = tf.tasks.task_mut::<ComTask>("com").unwrap();
     for k in 0..3 {

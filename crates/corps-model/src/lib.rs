@@ -76,5 +76,6 @@ pub use geometry::{CollisionGeometry, Shape};
 pub use joint::{Joint, JointKind};
 pub use model::{check_vector, Model, STANDARD_GRAVITY};
 pub use parse::{
-    build_model_from_urdf_file, build_model_from_urdf_str, load_reference_configurations, RootJoint,
+    build_model_from_urdf_file, build_model_from_urdf_str, build_model_from_urdf_str_locked,
+    load_reference_configurations, RootJoint,
 };

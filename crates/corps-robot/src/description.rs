@@ -53,6 +53,11 @@ pub struct Description {
     /// smaller (some URDFs give zero) gets its principal moments raised to it, so that the
     /// dynamics stay regular. Absent: the URDF's inertias as they are.
     pub inertia_floor: Option<f64>,
+    /// Joints made rigid at their position in the reference posture (the model has no dof
+    /// for them; their bodies merge into their parents'): joints a controller leaves to stiff
+    /// position servos.
+    #[serde(default)]
+    pub locked_joints: Vec<String>,
     /// Rigid bodies the URDF lacks, fixed to a link (a battery pack on the back): each is
     /// merged into the inertia of the body that carries its link.
     #[serde(default)]

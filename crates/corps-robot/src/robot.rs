@@ -8,8 +8,8 @@ use crate::files::{FileSource, BUILT_IN};
 use corps_model::spatial::rotation::rpy_to_matrix;
 use corps_model::spatial::{Inertia, Se3};
 use corps_model::{
-    build_model_from_urdf_str, forward_kinematics_placements, CollisionGeometry, Data, Frame,
-    FrameKind, Model, RootJoint, Shape,
+    build_model_from_urdf_str, build_model_from_urdf_str_locked, forward_kinematics_placements,
+    CollisionGeometry, Data, Frame, FrameKind, Model, RootJoint, Shape,
 };
 use nalgebra::{DVector, Vector3};
 use std::collections::BTreeMap;
@@ -181,10 +181,34 @@ impl Loader {
         let (urdf, urdf_shown) = self.read("urdf", &d.urdf)?;
         let mut model = build_model_from_urdf_str(&urdf, RootJoint::FreeFlyer)
             .map_err(|e| format!("urdf: {urdf_shown}: {e}"))?;
-        if let Some(srdf) = &d.srdf {
-            let (text, shown) = self.read("srdf", srdf)?;
-            corps_model::parse::load_reference_configurations_str(&mut model, &text)
+        let srdf = match &d.srdf {
+            Some(srdf) => Some(self.read("srdf", srdf)?),
+            None => None,
+        };
+        if let Some((text, shown)) = &srdf {
+            corps_model::parse::load_reference_configurations_str(&mut model, text)
                 .map_err(|e| format!("srdf: {shown}: {e}"))?;
+        }
+        if !d.locked_joints.is_empty() {
+            // Lock at the reference posture, then read the SRDF again for the smaller model.
+            let posture = model
+                .reference_configuration(&d.posture)
+                .map_err(|e| format!("posture: {e}"))?;
+            let locked = (d.locked_joints.iter())
+                .map(|name| {
+                    let j = model
+                        .joint_id(name)
+                        .map(|id| &model.joints[id])
+                        .map_err(|_| format!("locked_joints: the URDF has no joint '{name}'"))?;
+                    Ok((name.clone(), posture[j.idx_q]))
+                })
+                .collect::<Checked<Vec<_>>>()?;
+            model = build_model_from_urdf_str_locked(&urdf, RootJoint::FreeFlyer, &locked)
+                .map_err(|e| format!("locked_joints: {e}"))?;
+            if let Some((text, shown)) = &srdf {
+                corps_model::parse::load_reference_configurations_str(&mut model, text)
+                    .map_err(|e| format!("srdf: {shown}: {e}"))?;
+            }
         }
         apply_limits(&mut model, &d)?;
         if let Some(floor) = d.inertia_floor {

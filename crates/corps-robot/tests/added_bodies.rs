@@ -128,3 +128,60 @@ fn bad_added_bodies_and_extension_chains_are_refused_with_one_line() {
     assert_eq!(robot.name, "x");
     assert!(robot.gains.contains_key("soft_tasks"));
 }
+
+/// iCub's description locks its neck and wrists at half-sitting: 9 fewer dofs, the same mass,
+/// and at half-sitting the same CoM and the same sole position, in the root link's frame, as
+/// the full URDF model's (the description's inertia floor only lifts moments, not masses or
+/// centres). Locking a joint the URDF lacks, or a fixed one, is refused.
+#[test]
+fn locked_joints_keep_the_robot_where_it_was() {
+    let locked = Robot::built_in("icub").unwrap().unwrap();
+    let dir = repo_icub_dir();
+    let urdf = std::fs::read_to_string(dir.join("robots/icub.urdf")).unwrap();
+    let srdf = std::fs::read_to_string(dir.join("srdf/icub.srdf")).unwrap();
+    let mut full =
+        corps_model::build_model_from_urdf_str(&urdf, corps_model::RootJoint::FreeFlyer).unwrap();
+    corps_model::parse::load_reference_configurations_str(&mut full, &srdf).unwrap();
+    let m = &locked.model;
+    assert_eq!(full.nv - m.nv, 9);
+    let com = |model: &corps_model::Model| {
+        let q = model
+            .reference_configuration("half_sitting")
+            .unwrap()
+            .clone();
+        let mut data = Data::new(model);
+        forward_kinematics_placements(model, &mut data, q.as_slice()).unwrap();
+        // In the root link's frame: the description turns the posture's base to level the soles.
+        let base = frame_placement(model, &data, model.frame_id("root_link").unwrap()).unwrap();
+        let sole = frame_placement(model, &data, model.frame_id("l_sole").unwrap()).unwrap();
+        let c = com_at_placements(model, &data).0;
+        let local = |p: Vector3<f64>| base.rotation.transpose() * (p - base.translation);
+        (local(c), local(sole.translation))
+    };
+    let (c_full, sole_full) = com(&full);
+    let (c_locked, sole_locked) = com(m);
+    println!(
+        "mass {} / {}, CoM {c_full:?} / {c_locked:?}",
+        full.total_mass(),
+        m.total_mass()
+    );
+    assert!((full.total_mass() - m.total_mass()).abs() < 1e-9);
+    assert!((c_full - c_locked).norm() < 1e-12);
+    assert!((sole_full - sole_locked).norm() < 1e-12);
+    let err = corps_model::build_model_from_urdf_str_locked(
+        &urdf,
+        corps_model::RootJoint::FreeFlyer,
+        &[("no_such_joint".to_string(), 0.0)],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("no_such_joint"), "{err}");
+    let err = corps_model::build_model_from_urdf_str_locked(
+        &urdf,
+        corps_model::RootJoint::FreeFlyer,
+        &[("l_sole_fixed_joint".to_string(), 0.0)],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("one-dof"), "{err}");
+}

@@ -299,7 +299,7 @@ fn merge(base: &mut toml::Table, over: &toml::Table) {
     }
 }
 
-fn check_non_negative(what: &str, x: f64) -> Result<()> {
+pub(crate) fn check_non_negative(what: &str, x: f64) -> Result<()> {
     if !(x >= 0.0 && x.is_finite()) {
         bail!("{what} = {x}: must be finite and not negative");
     }

@@ -145,3 +145,15 @@ pub fn standing() -> (Arc<Model>, DVector<f64>, RobotState, InverseDynamics) {
     let id = standing_controller(&model, &state, &q);
     (model, q, state, id)
 }
+
+/// TALOS at `q` with the joints moving (0.05 sin(0.7 k) rad/s), the base still: a state off
+/// equilibrium for the formulation tests.
+pub fn moving_state(model: &Model, q: &DVector<f64>) -> RobotState {
+    let mut v = DVector::zeros(model.nv);
+    for k in 6..model.nv {
+        v[k] = 0.05 * ((k as f64) * 0.7).sin();
+    }
+    let mut state = RobotState::new(model);
+    state.update(model, q.as_slice(), v.as_slice()).unwrap();
+    state
+}

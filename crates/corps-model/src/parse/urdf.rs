@@ -53,6 +53,19 @@ pub fn build_model_from_urdf_file(path: impl AsRef<Path>, root: RootJoint) -> Re
 
 /// Loads a URDF document held in a string.
 pub fn build_model_from_urdf_str(xml: &str, root: RootJoint) -> Result<Model> {
+    build_model_from_urdf_str_locked(xml, root, &[])
+}
+
+/// Loads a URDF document held in a string with the one-dof joints of `locked` (name, position)
+/// made rigid at that position (Pinocchio's `buildReducedModel`): each becomes a fixed joint
+/// whose origin includes its motion, so its child's inertia merges into the parent's body and
+/// the model loses its dof. A name the URDF lacks, or a joint that is fixed or has more than
+/// one dof, is an error.
+pub fn build_model_from_urdf_str_locked(
+    xml: &str,
+    root: RootJoint,
+    locked: &[(String, f64)],
+) -> Result<Model> {
     let doc = roxmltree::Document::parse(xml).map_err(|e| ModelError::Xml(e.to_string()))?;
     let robot = doc.root_element();
     if robot.tag_name().name() != "robot" {
@@ -90,6 +103,28 @@ pub fn build_model_from_urdf_str(xml: &str, root: RootJoint) -> Result<Model> {
             }
         }
         joints.push(parsed);
+    }
+    for (name, position) in locked {
+        let invalid = |reason: String| ModelError::Invalid {
+            element: format!("locked joint '{name}'"),
+            reason,
+        };
+        let joint = (joints.iter_mut())
+            .find(|j| &j.name == name)
+            .ok_or_else(|| invalid("the URDF has no such joint".into()))?;
+        let q = match joint.kind {
+            Some(JointKind::Revolute { .. }) | Some(JointKind::Prismatic { .. }) => vec![*position],
+            Some(JointKind::RevoluteUnbounded { .. }) => vec![position.cos(), position.sin()],
+            _ => return Err(invalid("only a one-dof joint can be locked".into())),
+        };
+        if !position.is_finite() {
+            return Err(invalid(format!("position {position}")));
+        }
+        let kind = joint
+            .kind
+            .take()
+            .unwrap_or_else(|| unreachable!("matched above"));
+        joint.origin = joint.origin * kind.transform(&q);
     }
     let name = robot.attribute("name").unwrap_or("robot").to_string();
     TreeBuilder::new(&links, &joints).build(name, &link_order, root)

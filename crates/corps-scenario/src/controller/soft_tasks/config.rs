@@ -4,7 +4,7 @@
 
 use super::fsm::FsmConfig;
 use crate::error::{bail, Result};
-use crate::gains::PostureGains;
+use crate::gains::{check_non_negative as non_negative, PostureGains};
 use serde::Deserialize;
 
 /// Task weights w = {w_CoM, w_stance, w_swing, w_neck, w_τ} of Eq 2.44 (w_s is the posture's
@@ -143,13 +143,6 @@ pub struct SoftTasksConfig {
     /// error is counted as "outside switching" (seed 001 L3013 does not say how wide).
     pub switching_window: f64,
     pub fsm: FsmConfig,
-}
-
-fn non_negative(what: &str, x: f64) -> Result<()> {
-    if !(x >= 0.0 && x.is_finite()) {
-        bail!("{what} = {x}: must be finite and not negative");
-    }
-    Ok(())
 }
 
 impl SoftTasksConfig {

@@ -12,7 +12,9 @@
 //! | two-feet balancing, swap | initial | initial | on touch (F_z > F_zmin) | CoM error < e_CoM after t_min, or t_max |
 //!
 //! Errors are distances to the state's set-points (not to the smoothed references), the
-//! feet error the larger of the two feet's.
+//! feet error the larger of the two feet's. Set-points are taken, when a state is entered,
+//! relative to where the stance foot is then (the handover's offsets from it), so that an
+//! estimate that drifts between steps moves them with the feet.
 
 use crate::error::{bail, Result};
 use crate::targets::Side;
@@ -190,6 +192,10 @@ pub struct StateMachine {
     feet0: [Vector3<f64>; 2],
     com_setpoint: Vector3<f64>,
     swing_setpoint: Vector3<f64>,
+    /// The feet where the last input put them.
+    feet: [Vector3<f64>; 2],
+    /// The stance foot's position when the state was entered.
+    stance_at_entry: Vector3<f64>,
     /// Completed steps (feet swaps).
     pub steps: usize,
 }
@@ -216,6 +222,8 @@ impl StateMachine {
             feet0,
             com_setpoint: com0,
             swing_setpoint: Vector3::zeros(),
+            feet: feet0,
+            stance_at_entry: feet0[stance.index()],
             steps: 0,
         };
         m.enter(0, t);
@@ -258,12 +266,13 @@ impl StateMachine {
         self.com_setpoint
     }
 
-    /// The set-point of foot `side` (the stance foot's is its initial position).
+    /// The set-point of foot `side` (the stance foot's is where it stood when the state was
+    /// entered).
     pub fn foot_setpoint(&self, side: Side) -> Vector3<f64> {
         if side == self.swing() {
             self.swing_setpoint
         } else {
-            self.feet0[side.index()]
+            self.stance_at_entry
         }
     }
 
@@ -276,18 +285,23 @@ impl StateMachine {
         self.current = k;
         self.entered_at = t;
         let s = &self.config.states[k];
-        let stance0 = self.feet0[self.stance.index()];
+        let stance = self.feet[self.stance.index()];
+        // How far the stance foot is from where it was at the handover.
+        let moved = stance - self.feet0[self.stance.index()];
         let swing = self.swing().index();
+        let com0 = self.com0 + moved;
+        self.stance_at_entry = stance;
         self.com_setpoint = match s.com {
-            ComSetpoint::Initial => self.com0,
+            ComSetpoint::Initial => com0,
             ComSetpoint::OverStance => {
-                Vector3::new(self.com0.x, stance0.y, self.com0.z)
-                    + Vector3::from(self.config.com_offset)
+                Vector3::new(com0.x, stance.y, com0.z) + Vector3::from(self.config.com_offset)
             }
         };
         self.swing_setpoint = match s.swing {
-            SwingSetpoint::Initial => self.feet0[swing],
-            SwingSetpoint::Raised => self.feet0[swing] + Vector3::from(self.config.swing_offset),
+            SwingSetpoint::Initial => self.feet0[swing] + moved,
+            SwingSetpoint::Raised => {
+                self.feet0[swing] + moved + Vector3::from(self.config.swing_offset)
+            }
         };
         self.swing_in_contact = match s.swing_contact {
             SwingContact::Kept => true,
@@ -300,6 +314,7 @@ impl StateMachine {
     /// Advances the machine one tick; returns whether the state or the contacts changed.
     pub fn update(&mut self, input: &FsmInput) -> bool {
         let mut changed = false;
+        self.feet = input.feet;
         let s = self.state().clone();
         if s.swing_contact == SwingContact::OnTouch
             && !self.swing_in_contact

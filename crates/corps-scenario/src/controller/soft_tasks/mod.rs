@@ -7,9 +7,10 @@
 //! with the feet in contact as wrench contacts whose pose rows are soft (the stance-foot task:
 //! its acceleration tracked towards the PD law, not held at zero), a swing foot out of contact
 //! as an SE(3) task, the neck's orientation under the SO(3) law
-//! ([`corps_control::tasks::OrientationTask`]), the posture towards the handover's, and the
-//! joints seed 001 does not torque-control (iCub's neck and wrists: 23 of 32 joints are,
-//! §3.1) held by an equality that plays their position servo. The state machine is data
+//! ([`corps_control::tasks::OrientationTask`]), the posture towards the handover's, and any
+//! joints the controller leaves to a position servo (`[held]`) held by an equality (iCub's
+//! description locks its neck and wrists instead: 23 joints are torque-controlled, seed 001
+//! §3.1). The state machine is data
 //! (`[fsm]`, [`fsm`]); every set-point change is smoothed by a minimum-jerk move
 //! ([`smoothing`]). The references it tracks are what the run logs and measures
 //! ([`super::WholeBodyController::tracked_targets`]).
@@ -45,8 +46,8 @@ use std::sync::Arc;
 
 /// The controller's log columns: the state (index in the file), steps completed, the stance
 /// foot (1 left, 0 right), the QP's normal forces and the distance between measured (F/T
-/// through the estimator) and QP-desired contact forces per foot, that distance outside the
-/// switching windows (NaN inside), the neck's distance δ (Eq 2.16) to its reference, and the
+/// through the estimator) and QP-desired contact forces per foot, that distance for a foot in
+/// contact outside the switching windows (NaN inside, or for a released foot), the neck's distance δ (Eq 2.16) to its reference, and the
 /// smallest distance of a watched joint to its limits (degrees, negative past one).
 pub const SOFT_TASKS_CHANNELS: [&str; 11] = [
     "fsm_state",
@@ -368,15 +369,27 @@ impl SoftTasksController {
             };
             s[3 + k] = if solved { desired[k][2] } else { f64::NAN };
             s[5 + k] = error;
-            s[7 + k] = if outside { error } else { f64::NAN };
+            // Outside switching, between a contact's forces and the QP's: a released foot
+            // has no QP force to compare with (its early touch is counted apart).
+            let contact = self.feet[k].in_contact;
+            s[7 + k] = if outside && contact { error } else { f64::NAN };
+            if !contact {
+                self.stats.released_foot_force(measured_force.z);
+            }
         }
         let com_error = measured.com - Vector3::from_column_slice(self.targets.com.pos.as_slice());
         let foot_errors = [0, 1].map(|k| {
             measured.feet[k].translation.vector
                 - self.targets.feet[k].reference.placement.translation
         });
-        self.stats
-            .push(com_error, foot_errors, [s[5], s[6]], outside);
+        let contacts = [0, 1].map(|k| {
+            if self.feet[k].in_contact {
+                s[5 + k]
+            } else {
+                f64::NAN
+            }
+        });
+        self.stats.push(com_error, foot_errors, contacts, outside);
         if self.fsm.steps != self.steps_seen {
             self.steps_seen = self.fsm.steps;
             self.stats.swapped(t);

@@ -166,3 +166,88 @@ impl PostureLaw {
         self.law
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeMap;
+
+    /// iCub at half-sitting with the right elbow at `elbow` (rad) moving at `rate`.
+    fn state(model: &Model, q0: &DVector<f64>, elbow: f64, rate: f64) -> RobotState {
+        let j = &model.joints[model.joint_id("r_elbow").unwrap()];
+        let mut q = q0.clone();
+        q[j.idx_q] = elbow;
+        let mut v = DVector::zeros(model.nv);
+        v[j.idx_v] = rate;
+        let mut s = RobotState::new(model);
+        s.update(model, q.as_slice(), v.as_slice()).unwrap();
+        s
+    }
+
+    fn law(model: &Model, q0: &DVector<f64>, which: Law) -> Result<PostureLaw> {
+        let na = model.na();
+        let limits = JointLimitsConfig {
+            law: which,
+            xi_max: 0.99_f64.atanh(),
+            limits_deg: BTreeMap::from([("r_elbow".to_string(), [15.0, 106.0])]),
+        };
+        let reference = BTreeMap::from([("r_elbow".to_string(), 22.5)]);
+        let (kp, kd) = (
+            DVector::repeat(na, 8.0),
+            DVector::repeat(na, 2.0 * 8f64.sqrt()),
+        );
+        PostureLaw::new(model, kp, kd, q0, &reference, Some(&limits))
+    }
+
+    /// Near its limit and moving towards it, the elbow is pulled back far harder by Eq 3.27
+    /// than by the classical PD; just off its reference both pull back towards it; a
+    /// reference outside the limits is refused by the re-parametrised law.
+    #[test]
+    fn near_a_limit_the_reparametrised_law_pulls_back_harder() {
+        let robot = corps_robot::Robot::built_in("icub").unwrap().unwrap();
+        let (model, q0) = (&robot.model, &robot.posture);
+        let elbow = model.joints[model.joint_id("r_elbow").unwrap()].idx_v - 6;
+        let classical = law(model, q0, Law::Classical).unwrap();
+        let reparametrised = law(model, q0, Law::Reparametrised).unwrap();
+        let mut a = DVector::zeros(model.na());
+        let mut b = DVector::zeros(model.na());
+        let near = state(model, q0, 16f64.to_radians(), -0.5);
+        classical.accelerations(&near, &mut a).unwrap();
+        reparametrised.accelerations(&near, &mut b).unwrap();
+        println!(
+            "at 16° moving at −0.5 rad/s: classical {:.2}, re-parametrised {:.2} rad/s²",
+            a[elbow], b[elbow]
+        );
+        assert!(a[elbow] > 0.0 && b[elbow] > 5.0 * a[elbow] && b[elbow].is_finite());
+        let (m, j) = reparametrised.margin(&near.q);
+        assert_eq!(reparametrised.name(j), "r_elbow");
+        assert!((m - 1f64.to_radians()).abs() < 1e-12);
+        // Just off the reference, at rest: both pull back towards it.
+        let close = state(model, q0, 22.5f64.to_radians() + 1e-5, 0.0);
+        classical.accelerations(&close, &mut a).unwrap();
+        reparametrised.accelerations(&close, &mut b).unwrap();
+        assert!(a[elbow] < 0.0 && b[elbow] < 0.0);
+        // The reference outside the limits.
+        let mut bad = BTreeMap::new();
+        bad.insert("r_elbow".to_string(), 10.0);
+        let limits = JointLimitsConfig {
+            law: Law::Reparametrised,
+            xi_max: 2.6,
+            limits_deg: BTreeMap::from([("r_elbow".to_string(), [15.0, 106.0])]),
+        };
+        let na = model.na();
+        let err = PostureLaw::new(
+            model,
+            DVector::zeros(na),
+            DVector::zeros(na),
+            q0,
+            &bad,
+            Some(&limits),
+        );
+        assert!(err
+            .err()
+            .unwrap()
+            .to_string()
+            .contains("not inside its limits"));
+    }
+}

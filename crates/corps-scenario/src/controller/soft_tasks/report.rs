@@ -1,7 +1,8 @@
 //! The stepping figures seed 001 gives for controller #2 (S2, L2960–L3136), accumulated over
 //! the run as the controller sees it (its estimate against its references): strides, CoM
-//! and feet errors, the distance between measured and QP-desired contact forces outside the
-//! switching windows, and the stride's duration.
+//! and feet errors, the distance between measured and QP-desired contact forces (of the feet
+//! in contact, outside the switching windows), a released foot's early touch, and the
+//! stride's duration.
 
 use crate::metrics::ReportLine;
 use nalgebra::Vector3;
@@ -23,6 +24,8 @@ pub struct SteppingStats {
     swaps: Vec<f64>,
     /// The smallest distance to a joint limit (rad) and its joint.
     margin: Option<(f64, usize)>,
+    /// The largest normal force measured on a foot the controller has released (N).
+    released_force: f64,
 }
 
 impl SteppingStats {
@@ -57,6 +60,13 @@ impl SteppingStats {
             } else {
                 self.switch_force_peak = self.switch_force_peak.max(e);
             }
+        }
+    }
+
+    /// The normal force measured on a released foot this tick (N).
+    pub fn released_foot_force(&mut self, fz: f64) {
+        if fz.is_finite() {
+            self.released_force = self.released_force.max(fz);
         }
     }
 
@@ -148,6 +158,13 @@ impl SteppingStats {
             "contact-force error outside switching, ticks ≥ 20 N",
             self.force_over as f64,
             "",
+            None,
+            None,
+        ));
+        out.push(line(
+            "largest normal force on a released foot (touching before its state)",
+            self.released_force,
+            "N",
             None,
             None,
         ));
