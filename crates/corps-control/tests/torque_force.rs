@@ -9,7 +9,7 @@ mod common;
 use common::*;
 use corps_control::formulation::TorqueForce;
 use corps_control::formulation::HESSIAN_REGULARIZATION;
-use corps_control::tasks::{AngularMomentumTask, ComTask, PostureTask, TaskRows};
+use corps_control::tasks::{ComTask, TaskRows};
 use corps_control::{RobotState, Task, TaskLevel};
 use corps_model::Model;
 use corps_testkit::{allocations, CountingAllocator};
@@ -35,19 +35,7 @@ impl Task for AccelerationNorm {
 
 /// The [τ; f] formulation with the tasks and contacts of `standing_controller`.
 fn torque_force(model: &Model, state: &RobotState, q: &DVector<f64>) -> TorqueForce {
-    let id = standing_controller(model, state, q);
-    let mut tf = TorqueForce::new(model);
-    let com = id.tasks.task::<ComTask>("com").unwrap().clone();
-    let posture = id.tasks.task::<PostureTask>("posture").unwrap().clone();
-    let am = (id.tasks.task::<AngularMomentumTask>("angular_momentum"))
-        .unwrap()
-        .clone();
-    for (name, w) in [("com", 50.0), ("posture", 0.1), ("angular_momentum", 0.02)] {
-        assert_eq!(id.tasks.weight(name), Some(w));
-    }
-    tf.tasks.add("com", com, 1, 50.0).unwrap();
-    tf.tasks.add("posture", posture, 1, 0.1).unwrap();
-    tf.tasks.add("angular_momentum", am, 1, 0.02).unwrap();
+    let (mut tf, id) = standing_torque_force(model, state, q);
     tf.contacts = id.contacts.clone();
     tf
 }

@@ -15,7 +15,7 @@ mod common;
 use common::*;
 use corps_control::contacts::{Contact, CopBox, WrenchLimits};
 use corps_control::formulation::TorqueForce;
-use corps_control::tasks::{AngularMomentumTask, ComTask, PostureTask};
+use corps_control::tasks::ComTask;
 use corps_control::RobotState;
 use corps_model::Model;
 use nalgebra::{DVector, Vector3};
@@ -23,16 +23,7 @@ use nalgebra::{DVector, Vector3};
 /// The standing controller's tasks in the [τ; f] formulation, its corner contacts replaced by
 /// wrench contacts (`wrench`) of TALOS' sole box (±0.1 × ±0.065 m).
 fn formulation(model: &Model, state: &RobotState, q: &DVector<f64>, wrench: bool) -> TorqueForce {
-    let id = standing_controller(model, state, q);
-    let mut tf = TorqueForce::new(model);
-    let com = id.tasks.task::<ComTask>("com").unwrap().clone();
-    let posture = id.tasks.task::<PostureTask>("posture").unwrap().clone();
-    let am = (id.tasks.task::<AngularMomentumTask>("angular_momentum"))
-        .unwrap()
-        .clone();
-    tf.tasks.add("com", com, 1, 50.0).unwrap();
-    tf.tasks.add("posture", posture, 1, 0.1).unwrap();
-    tf.tasks.add("angular_momentum", am, 1, 0.02).unwrap();
+    let (mut tf, id) = standing_torque_force(model, state, q);
     for c in &id.contacts {
         let mut contact = if wrench {
             let limits = WrenchLimits {

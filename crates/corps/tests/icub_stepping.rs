@@ -2,12 +2,23 @@
 //! controller #2 and FSM #2 (`scenarios/icub/fsm2_stepping.toml`), the controller reading the
 //! sensors through the estimator. The test runs 60 s (4 strides); the thesis's 50 cycles run
 //! from `corps run scenarios/icub/fsm2_stepping.toml --duration 720`, whose output RESULTS.md
-//! records (53 strides). Every thesis figure the controller reports is printed beside corps';
+//! records (52 strides). Every thesis figure the controller reports is printed beside corps';
 //! those corps misses must be exactly the known ones, which RESULTS.md lists with their causes.
 
-use corps::run::{run_file, RunOptions};
+use corps::run::{run_file, Metrics, RunOptions};
 use corps_loop::verdict::Verdict;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+/// Runs the scenario at `path` for `duration` (None: its own) into a temporary directory and
+/// prints its metrics.
+fn run(path: &Path, duration: Option<f64>) -> Metrics {
+    let out = tempfile::tempdir().unwrap();
+    let m = run_file(path, Some(out.path()), duration, RunOptions::quiet())
+        .unwrap_or_else(|e| panic!("{e:#}"))
+        .metrics;
+    println!("{m}");
+    m
+}
 
 fn scenario(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -21,16 +32,7 @@ const KNOWN: [&str; 1] = ["strides (two steps each)"];
 
 #[test]
 fn fsm2_steps_in_place_within_the_thesis_bounds() {
-    let out = tempfile::tempdir().unwrap();
-    let m = run_file(
-        &scenario("fsm2_stepping.toml"),
-        Some(out.path()),
-        Some(60.0),
-        RunOptions::quiet(),
-    )
-    .unwrap()
-    .metrics;
-    println!("{m}");
+    let m = run(&scenario("fsm2_stepping.toml"), Some(60.0));
     assert_eq!(m.verdict.verdict, Verdict::Completed, "{}", m.verdict);
     assert_eq!(m.fallbacks, 0, "{:?}", m.first_fallback);
     let line = |name: &str| {
@@ -88,15 +90,7 @@ fn the_backpacked_icub_steps_for_a_minute() {
         ),
     )
     .unwrap();
-    let m = run_file(
-        &path,
-        Some(&dir.path().join("out")),
-        Some(60.0),
-        RunOptions::quiet(),
-    )
-    .unwrap()
-    .metrics;
-    println!("{m}");
+    let m = run(&path, Some(60.0));
     assert_eq!(m.verdict.verdict, Verdict::Completed, "{}", m.verdict);
     assert_eq!(m.fallbacks, 0, "{:?}", m.first_fallback);
     let strides = (m.controller_report.iter())
@@ -146,16 +140,7 @@ fn a_state_machine_or_a_frame_that_cannot_be_is_refused_before_the_run() {
 /// The smallest distance of the right elbow to its limit over a run of
 /// `scenarios/icub/s7_elbow_{law}.toml`, and the verdict.
 fn s7(law: &str) -> (f64, Verdict) {
-    let out = tempfile::tempdir().unwrap();
-    let m = run_file(
-        &scenario(&format!("s7_elbow_{law}.toml")),
-        Some(out.path()),
-        None,
-        RunOptions::quiet(),
-    )
-    .unwrap_or_else(|e| panic!("{e:#}"))
-    .metrics;
-    println!("{m}");
+    let m = run(&scenario(&format!("s7_elbow_{law}.toml")), None);
     let margin = (m.controller_report.iter())
         .find(|l| l.figure == "smallest distance to a joint limit (r_elbow)")
         .expect("the elbow's margin")

@@ -157,3 +157,26 @@ pub fn moving_state(model: &Model, q: &DVector<f64>) -> RobotState {
     state.update(model, q.as_slice(), v.as_slice()).unwrap();
     state
 }
+
+/// The standing controller's tasks (CoM, posture, angular momentum, at its weights) in the
+/// [τ; f] formulation, no contact yet, and the controller itself (its contacts to copy).
+pub fn standing_torque_force(
+    model: &Model,
+    state: &RobotState,
+    q: &DVector<f64>,
+) -> (corps_control::formulation::TorqueForce, InverseDynamics) {
+    let id = standing_controller(model, state, q);
+    let mut tf = corps_control::formulation::TorqueForce::new(model);
+    for (name, w) in [("com", 50.0), ("posture", 0.1), ("angular_momentum", 0.02)] {
+        assert_eq!(id.tasks.weight(name), Some(w));
+    }
+    let com = id.tasks.task::<ComTask>("com").unwrap().clone();
+    let posture = id.tasks.task::<PostureTask>("posture").unwrap().clone();
+    let am = (id.tasks.task::<AngularMomentumTask>("angular_momentum"))
+        .unwrap()
+        .clone();
+    tf.tasks.add("com", com, 1, 50.0).unwrap();
+    tf.tasks.add("posture", posture, 1, 0.1).unwrap();
+    tf.tasks.add("angular_momentum", am, 1, 0.02).unwrap();
+    (tf, id)
+}
