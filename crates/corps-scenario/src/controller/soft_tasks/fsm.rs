@@ -53,7 +53,7 @@ pub enum SwingContact {
 }
 
 /// Conditions to leave a state; all given ones must hold (none: only `min_time`).
-#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Conditions {
     /// CoM distance to its set-point below this (m).
@@ -315,7 +315,9 @@ impl StateMachine {
     pub fn update(&mut self, input: &FsmInput) -> bool {
         let mut changed = false;
         self.feet = input.feet;
-        let s = self.state().clone();
+        let s = &self.config.states[self.current];
+        let (min_time, max_time, when, swap) =
+            (s.min_time, s.max_time, s.when, s.swap_feet_on_exit);
         if s.swing_contact == SwingContact::OnTouch
             && !self.swing_in_contact
             && input.normal_forces[self.swing().index()] > self.config.touchdown_force
@@ -325,13 +327,13 @@ impl StateMachine {
         }
         let elapsed = input.t - self.entered_at;
         let com_ok =
-            (s.when.com_error_below).is_none_or(|e| (input.com - self.com_setpoint).norm() < e);
+            (when.com_error_below).is_none_or(|e| (input.com - self.com_setpoint).norm() < e);
         let feet_error = [Side::Left, Side::Right]
             .map(|side| (input.feet[side.index()] - self.foot_setpoint(side)).norm());
-        let feet_ok = (s.when.feet_error_below).is_none_or(|e| feet_error.iter().all(|f| *f < e));
-        let timed_out = s.max_time.is_some_and(|m| elapsed >= m);
-        if (elapsed >= s.min_time && com_ok && feet_ok) || timed_out {
-            if s.swap_feet_on_exit {
+        let feet_ok = (when.feet_error_below).is_none_or(|e| feet_error.iter().all(|f| *f < e));
+        let timed_out = max_time.is_some_and(|m| elapsed >= m);
+        if (elapsed >= min_time && com_ok && feet_ok) || timed_out {
+            if swap {
                 self.stance = self.swing();
                 self.steps += 1;
             }
