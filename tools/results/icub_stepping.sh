@@ -86,7 +86,7 @@ cat <<'TEXT'
   27° past the URDF's 0 (the arms help the CoM from the posture's null space).
 - **Force error at switching**: the measured force jumps in the tick a contact appears or goes
   (added or removed at once, as in the thesis); a released foot also touches before its state
-  makes it a contact (up to 36 N).
+  makes it a contact (up to 23 N).
 - **S7: the robot falls under the first push, under both laws** (thesis: recovers from each,
   5 s apart). The push comes while it stands on one foot: its CoM runs forward, the stance sole
   tips onto its toe about 0.4 s into the push and the run diverges 0.9–1.5 s later; the elbow
@@ -94,8 +94,10 @@ cat <<'TEXT'
   the posture does not hold the elbow at its reference (before the push it sits 9° inside its
   limit under Eq 3.27, 26° under the classical PD, not at 7.5°), and with Eq B.3's weight at
   1e-3, tried, the robot falls too.
-- **Strict tasks** (S3): completes 60 s but slower: `prepare_touchdown` always runs to its 6 s
-  maximum, 21.3 s per stride (the thesis shows no results, "too stiff").
+- **Strict tasks** (S3), not reproduced: the thesis found the strict-tasks controller "too
+  stiff, bad for stability" (no results shown); corps' steps as well as controller #2 (60 s
+  above; 720 s, tried: 53 strides, CoM peaks 1.1 / 2.9 / 3.6 mm, feet 5.4 mm, force error 6.6 N),
+  on a simulator whose contact is near-rigid and whose joints have no limits.
 - **Controller #1's torque bounds on FSM #2**: 0.5 N·m per tick cannot shift the weight at the
   first contact release; the robot falls and the simulation diverges at 5.1 s.
 - **Speed** (Deliver 6): BENCHMARKS.md (goal ≤ 0.7× TALOS' TSID tick, missed).

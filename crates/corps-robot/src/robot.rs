@@ -196,11 +196,17 @@ impl Loader {
                 .map_err(|e| format!("posture: {e}"))?;
             let locked = (d.locked_joints.iter())
                 .map(|name| {
-                    let j = model
-                        .joint_id(name)
-                        .map(|id| &model.joints[id])
-                        .map_err(|_| format!("locked_joints: the URDF has no joint '{name}'"))?;
-                    Ok((name.clone(), posture[j.idx_q]))
+                    let j = model.joint_id(name).map(|id| &model.joints[id]).map_err(|_| {
+                        format!(
+                            "locked_joints: the model has no movable joint '{name}' (unknown, or fixed in the URDF)"
+                        )
+                    })?;
+                    // A continuous joint's configuration is (cos θ, sin θ).
+                    let angle = match j.nq() {
+                        2 => posture[j.idx_q + 1].atan2(posture[j.idx_q]),
+                        _ => posture[j.idx_q],
+                    };
+                    Ok((name.clone(), angle))
                 })
                 .collect::<Checked<Vec<_>>>()?;
             model = build_model_from_urdf_str_locked(&urdf, RootJoint::FreeFlyer, &locked)
@@ -381,7 +387,6 @@ impl Loader {
     }
 }
 
-/// Raises every body's principal moments of inertia (about its centre of mass) to `floor`.
 /// Descriptions deeper than this in a chain of `extends` are refused (a loop, most likely).
 const MAX_EXTENDS: usize = 4;
 
@@ -440,9 +445,12 @@ fn add_body(model: &mut Model, b: &crate::description::AddedBodySpec) -> Checked
         return Err(format!("mass must be a finite number > 0, got {}", b.mass));
     }
     let [xx, yy, zz, xy, xz, yz] = b.inertia;
+    if !b.inertia.iter().all(|x| x.is_finite()) {
+        return Err(format!("inertia must be finite, got {:?}", b.inertia));
+    }
     let inertia = nalgebra::Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz);
     let eig = nalgebra::SymmetricEigen::new(inertia);
-    if !inertia.iter().all(|x| x.is_finite()) || eig.eigenvalues.min() <= 0.0 {
+    if eig.eigenvalues.min() <= 0.0 {
         return Err(format!(
             "inertia must be positive definite, its principal moments are {:?}",
             eig.eigenvalues.as_slice()
@@ -468,6 +476,7 @@ fn add_body(model: &mut Model, b: &crate::description::AddedBodySpec) -> Checked
     Ok(())
 }
 
+/// Raises every body's principal moments of inertia (about its centre of mass) to `floor`.
 fn raise_inertias(model: &mut Model, floor: f64) {
     for body in model.inertias.iter_mut() {
         let eig = nalgebra::SymmetricEigen::new(body.inertia);

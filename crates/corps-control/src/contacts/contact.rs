@@ -43,7 +43,7 @@ pub struct Contact {
     /// the contact wrench has no friction or centre-of-pressure bound; the bounds on the total
     /// normal force stay. For a model whose contact forces are never applied, such as TSID in
     /// position mode, where they would otherwise bend its motion (see `corps`'s TSID
-    /// controller). Default false.
+    /// controller). Point forces only: a wrench contact keeps its limits. Default false.
     pub bilateral: bool,
     /// The motion rows as a cost of this weight instead of an equality (seed 001's soft
     /// stance-foot task); `None`: an equality. Only the [τ; f] formulation takes it.

@@ -34,7 +34,7 @@ use nalgebra::{DMatrix, DVector};
 pub struct TorqueForceOutput {
     /// Actuated joint torques (na).
     pub tau: DVector<f64>,
-    /// Contact forces, 3 per contact point, in contact order.
+    /// Contact forces in contact order: 3 per contact point, or a contact's 6-D wrench.
     pub forces: DVector<f64>,
     /// The joint accelerations they give, ν̇ = G u + d (nv).
     pub dv: DVector<f64>,
@@ -134,6 +134,13 @@ impl TorqueForce {
             return Err(ControlError::Config {
                 name: "torque_weight".into(),
                 reason: format!("must be finite and ≥ 0, got {}", self.torque_weight),
+            });
+        }
+        if let Some(c) = (self.contacts.iter()).find(|c| c.soft.is_some() && c.n_motion() < 6) {
+            return Err(ControlError::Config {
+                name: format!("contact '{}'", c.name),
+                reason: "a point contact cannot be soft (its rows would hold its orientation)"
+                    .into(),
             });
         }
         let (n, n_eq, n_in) = self.dims(model);

@@ -79,7 +79,7 @@ impl OrientationTask {
         }
     }
 
-    /// The distance δ to the reference at the last `compute`'s state.
+    /// The distance δ of the frame at state `s` to the reference.
     pub fn distance(&self, model: &Model, s: &RobotState) -> Result<f64> {
         let r = s.frame_placement(model, self.frame)?.rotation;
         Ok(so3_distance(&r, &self.reference.placement.rotation))

@@ -139,8 +139,8 @@ pub struct SoftTasksConfig {
     pub posture_consistency: Option<PostureConsistency>,
     pub contacts: WrenchContactGains,
     pub held: Option<HeldJoints>,
-    /// A window around each contact change (s, before and after) outside which the force
-    /// error is counted as "outside switching" (seed 001 L3013 does not say how wide).
+    /// How long after each contact change (s) the force error still counts as "at
+    /// switching" (seed 001 L3013 does not say how wide).
     pub switching_window: f64,
     pub fsm: FsmConfig,
 }

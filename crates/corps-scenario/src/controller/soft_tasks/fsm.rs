@@ -48,7 +48,8 @@ pub enum SwingSetpoint {
 pub enum SwingContact {
     Kept,
     Released,
-    /// Becomes a contact once its measured normal force exceeds `touchdown_force`.
+    /// Becomes a contact once its measured normal force exceeds `touchdown_force`; the state
+    /// is not left before, whatever its conditions and `max_time`.
     OnTouch,
 }
 
@@ -318,6 +319,7 @@ impl StateMachine {
         let s = &self.config.states[self.current];
         let (min_time, max_time, when, swap) =
             (s.min_time, s.max_time, s.when, s.swap_feet_on_exit);
+        let on_touch = s.swing_contact == SwingContact::OnTouch;
         if s.swing_contact == SwingContact::OnTouch
             && !self.swing_in_contact
             && input.normal_forces[self.swing().index()] > self.config.touchdown_force
@@ -332,7 +334,10 @@ impl StateMachine {
             .map(|side| (input.feet[side.index()] - self.foot_setpoint(side)).norm());
         let feet_ok = (when.feet_error_below).is_none_or(|e| feet_error.iter().all(|f| *f < e));
         let timed_out = max_time.is_some_and(|m| elapsed >= m);
-        if (elapsed >= min_time && com_ok && feet_ok) || timed_out {
+        // An on-touch state waits for the touch, whatever its conditions and times: leaving
+        // it (and swapping the feet) with the swing foot in the air would stand on it.
+        let touched = !on_touch || self.swing_in_contact;
+        if touched && ((elapsed >= min_time && com_ok && feet_ok) || timed_out) {
             if swap {
                 self.stance = self.swing();
                 self.steps += 1;
@@ -478,6 +483,35 @@ swap_feet_on_exit = true
         assert_eq!(m.current_name(), "com_to_stance");
         m.update(&far(8.0));
         assert_eq!(m.current_name(), "stance_balancing");
+    }
+
+    #[test]
+    fn an_on_touch_state_waits_for_the_touch_past_its_maximum_time() {
+        let feet0 = [Vector3::new(0.0, 0.07, 0.0), Vector3::new(0.0, -0.07, 0.0)];
+        let mut m = StateMachine::new(fsm2(), 0.0, Vector3::zeros(), feet0);
+        let (mut t, dt) = (0.0, 0.01);
+        // Follow the set-points exactly, never touching, up to the last state.
+        while m.current_name() != "two_feet" {
+            t += dt;
+            m.update(&input(t, &m, [0.0, 0.0]));
+            assert!(t < 30.0);
+        }
+        let entered = t;
+        let swing = m.swing();
+        while t < entered + 10.0 {
+            t += dt;
+            m.update(&input(t, &m, [0.0, 0.0]));
+        }
+        assert_eq!(m.current_name(), "two_feet", "left without a touch");
+        assert_eq!(m.steps, 0);
+        let mut fz = [0.0, 0.0];
+        fz[swing.index()] = 1.0;
+        t += dt;
+        m.update(&input(t, &m, fz));
+        t += dt;
+        m.update(&input(t, &m, fz));
+        assert_eq!(m.current_name(), "com_to_stance");
+        assert_eq!(m.steps, 1);
     }
 
     #[test]

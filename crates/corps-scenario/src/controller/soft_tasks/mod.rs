@@ -282,9 +282,11 @@ impl SoftTasksController {
                 let m = &foot.contact.motion;
                 let swing = Se3Task::new(self.model.nv, m.frame, m.kp, m.kd, at_rest(placement));
                 let weight = self.config.weights.swing;
+                // An equality in the strict-tasks controller (Eq 2.40c), a cost otherwise.
+                let priority = if self.config.strict { 0 } else { 1 };
                 self.tf
                     .tasks
-                    .add(&foot.swing_task, swing, 1, weight)
+                    .add(&foot.swing_task, swing, priority, weight)
                     .map_err(err)?;
             }
             foot.in_contact = wanted;
@@ -373,7 +375,7 @@ impl SoftTasksController {
             // has no QP force to compare with (its early touch is counted apart).
             let contact = self.feet[k].in_contact;
             s[7 + k] = if outside && contact { error } else { f64::NAN };
-            if !contact {
+            if !contact && outside {
                 self.stats.released_foot_force(measured_force.z);
             }
         }
@@ -461,6 +463,12 @@ impl WholeBodyController for SoftTasksController {
         };
         self.fsm.update(&input);
         if let Err(reason) = self.follow_fsm(t) {
+            let model = self.model.clone();
+            let damping = self.config.safe_damping;
+            corps_control::safe_torques(&model, &mut self.state.data, q, v, damping, &mut self.tau);
+            if let Command::Torque(tau) = &mut self.command {
+                tau.copy_from(&self.tau);
+            }
             return Some(reason);
         }
         self.set_references(t);

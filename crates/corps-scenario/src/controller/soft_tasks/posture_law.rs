@@ -61,6 +61,12 @@ impl PostureLaw {
                 model.upper_position_limit[j.idx_q],
             );
             if let Some([a, b]) = limits.and_then(|l| l.limits_deg.get(&j.name)) {
+                if !(a.is_finite() && b.is_finite() && b > a) {
+                    bail!(
+                        "joint_limits.limits_deg.{}: [{a}, {b}] is not an interval",
+                        j.name
+                    );
+                }
                 (lo, hi) = (a.to_radians(), b.to_radians());
             }
             lower.push(lo);

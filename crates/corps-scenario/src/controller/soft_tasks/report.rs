@@ -94,7 +94,7 @@ impl SteppingStats {
         self.swaps.len() / 2
     }
 
-    /// Mean stride duration between the first and last swap (s), if two strides ended.
+    /// Mean stride duration between the first and last swap (s), once three swaps happened.
     pub fn stride_duration(&self) -> Option<f64> {
         let n = self.swaps.len();
         (n >= 3).then(|| 2.0 * (self.swaps[n - 1] - self.swaps[0]) / (n - 1) as f64)
