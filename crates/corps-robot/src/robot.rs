@@ -423,20 +423,8 @@ fn extended(text: String, path: &Path, source: &FileSource, depth: usize) -> Che
     let mut merged: toml::Table = base_text
         .parse()
         .map_err(|e: toml::de::Error| format!("extends '{base}': {}", e.message()))?;
-    merge(&mut merged, table);
+    crate::toml_text::merge(&mut merged, &table);
     toml::to_string(&merged).map_err(|e| format!("extends: {e}"))
-}
-
-/// `over`'s keys into `base`: tables merged key by key, anything else replaced.
-fn merge(base: &mut toml::Table, over: toml::Table) {
-    for (key, value) in over {
-        match (base.get_mut(&key), value) {
-            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge(b, o),
-            (_, value) => {
-                base.insert(key, value);
-            }
-        }
-    }
 }
 
 /// Merges the rigid body `b` into the inertia of the body that carries its link.

@@ -5,7 +5,7 @@
 //! The toml crate's document deserializer fills a fixed-size array (`[f64; 3]`) from the first
 //! elements of a longer TOML array and drops the rest; its value deserializer refuses the
 //! surplus. Text is read through the first (its errors carry line numbers), then through the
-//! second.
+//! second. [`merge`] lays one table over another.
 
 use serde::de::DeserializeOwned;
 
@@ -54,6 +54,19 @@ fn one_line(text: &str, e: &toml::de::Error, path: &str) -> String {
         }
     }
     format!("{line}{key}{message}")
+}
+
+/// `over`'s keys into `base`: tables merged key by key, any other value replaced (a
+/// description extending another, a scenario's `controller.set` over a gains file).
+pub fn merge(base: &mut toml::Table, over: &toml::Table) {
+    for (key, value) in over {
+        match (base.get_mut(key), value) {
+            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge(b, o),
+            _ => {
+                base.insert(key.clone(), value.clone());
+            }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -280,23 +280,11 @@ pub fn load<T: serde::de::DeserializeOwned>(
         let mut table: toml::Table = text
             .parse()
             .map_err(|e: toml::de::Error| invalid!("{name}: {}", e.message()))?;
-        merge(&mut table, overrides);
+        corps_robot::toml_text::merge(&mut table, overrides);
         text = toml::to_string(&table).context("merging controller.set")?;
         name = format!("{name} with controller.set");
     }
     corps_robot::toml_text::parse(&text).map_err(|e| invalid!("{name}: {e}"))
-}
-
-/// Replaces `base`'s values by `over`'s, descending into tables present in both.
-fn merge(base: &mut toml::Table, over: &toml::Table) {
-    for (key, value) in over {
-        match (base.get_mut(key), value) {
-            (Some(toml::Value::Table(b)), toml::Value::Table(o)) => merge(b, o),
-            _ => {
-                base.insert(key.clone(), value.clone());
-            }
-        }
-    }
 }
 
 pub(crate) fn check_non_negative(what: &str, x: f64) -> Result<()> {

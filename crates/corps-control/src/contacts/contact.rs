@@ -150,11 +150,6 @@ impl Contact {
         c
     }
 
-    /// The wrench limits of a wrench contact.
-    pub fn wrench_limits(&self) -> Option<&WrenchLimits> {
-        self.wrench.as_ref()
-    }
-
     #[allow(clippy::too_many_arguments)]
     fn with_points(
         model: &Model,

@@ -339,7 +339,7 @@ impl TorqueForce {
 /// `rows` (in ν̇) mapped to u = [τ; f] through ν̇ = G u + d: `(A G) u = b − A d`, written to
 /// a buffer of `mapped` with as many rows (added the first time that size is met); returns
 /// its index. Rows that select dofs (a posture's) copy rows of G; otherwise only the columns
-/// of A with a non-zero entry (a foot's chain, a few held joints) enter the product, listed
+/// of A with a non-zero entry (a foot's chain) enter the product, listed
 /// in `used` (nv entries, preallocated).
 fn map_rows(
     map: &DMatrix<f64>,

@@ -62,15 +62,6 @@ pub struct WrenchContactGains {
     pub vertices_per_quadrant: usize,
 }
 
-/// Joints left to a stiff position servo: held where they are at the handover.
-#[derive(Clone, Debug, Deserialize, PartialEq)]
-#[serde(deny_unknown_fields)]
-pub struct HeldJoints {
-    pub joints: Vec<String>,
-    pub kp: f64,
-    pub kd: Option<f64>,
-}
-
 /// The posture's reference made consistent with the Cartesian tasks (seed 001 App. B.1,
 /// [`corps_control::posture_consistency`]).
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -138,7 +129,6 @@ pub struct SoftTasksConfig {
     /// Absent: the posture task pulls towards the handover's posture with its own PD.
     pub posture_consistency: Option<PostureConsistency>,
     pub contacts: WrenchContactGains,
-    pub held: Option<HeldJoints>,
     /// How long after each contact change (s) the force error still counts as "at
     /// switching" (seed 001 L3013 does not say how wide).
     pub switching_window: f64,
@@ -146,6 +136,16 @@ pub struct SoftTasksConfig {
 }
 
 impl SoftTasksConfig {
+    /// The priority of the Cartesian tasks (CoM, orientation, swing foot): equalities in the
+    /// strict-tasks controller (Eq 2.40c), costs otherwise.
+    pub fn cartesian_priority(&self) -> usize {
+        if self.strict {
+            0
+        } else {
+            1
+        }
+    }
+
     /// Checks every number and the state machine.
     pub fn check(&self) -> Result<()> {
         let w = &self.weights;
@@ -193,10 +193,6 @@ impl SoftTasksConfig {
                     p.weight
                 );
             }
-        }
-        if let Some(h) = &self.held {
-            non_negative("held.kp", h.kp)?;
-            non_negative("held.kd", h.kd.unwrap_or(0.0))?;
         }
         self.fsm.check()
     }

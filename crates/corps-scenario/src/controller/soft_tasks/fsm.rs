@@ -320,7 +320,7 @@ impl StateMachine {
         let (min_time, max_time, when, swap) =
             (s.min_time, s.max_time, s.when, s.swap_feet_on_exit);
         let on_touch = s.swing_contact == SwingContact::OnTouch;
-        if s.swing_contact == SwingContact::OnTouch
+        if on_touch
             && !self.swing_in_contact
             && input.normal_forces[self.swing().index()] > self.config.touchdown_force
         {

@@ -7,10 +7,9 @@
 //! with the feet in contact as wrench contacts whose pose rows are soft (the stance-foot task:
 //! its acceleration tracked towards the PD law, not held at zero), a swing foot out of contact
 //! as an SE(3) task, the neck's orientation under the SO(3) law
-//! ([`corps_control::tasks::OrientationTask`]), the posture towards the handover's, and any
-//! joints the controller leaves to a position servo (`[held]`) held by an equality (iCub's
-//! description locks its neck and wrists instead: 23 joints are torque-controlled, seed 001
-//! §3.1). The state machine is data
+//! ([`corps_control::tasks::OrientationTask`]) and the posture towards the handover's (iCub's
+//! description locks its neck and wrists: the 23 joints seed 001 torque-controls, §3.1, are
+//! the model's). The state machine is data
 //! (`[fsm]`, [`fsm`]); every set-point change is smoothed by a minimum-jerk move
 //! ([`smoothing`]). The references it tracks are what the run logs and measures
 //! ([`super::WholeBodyController::tracked_targets`]).
@@ -30,7 +29,7 @@ use corps_control::contacts::{Contact, CopBox, WrenchLimits};
 use corps_control::formulation::TorqueForce;
 use corps_control::posture_consistency::ConsistentPosture;
 use corps_control::tasks::{
-    ComTask, JointHoldTask, OrientationTask, PostureTask, Reference, Se3Reference, Se3Task,
+    ComTask, OrientationTask, PostureTask, Reference, Se3Reference, Se3Task,
 };
 use corps_control::{FallbackReason, RobotState};
 use corps_loop::Command;
@@ -125,9 +124,7 @@ impl SoftTasksController {
             Vector3::repeat(config.com.kd()),
         );
         com.reference = Reference::constant(DVector::from_column_slice(state.data.com.as_slice()));
-        // Soft tasks in the cost (controllers #1, #2), or the Cartesian tasks as equalities
-        // (the strict-tasks controller, Eq 2.40c).
-        let cartesian = if config.strict { 0 } else { 1 };
+        let cartesian = config.cartesian_priority();
         tf.tasks.add("com", com, cartesian, w.com)?;
         let neck_frame = model.frame_id(&config.neck.frame)?;
         let neck = OrientationTask::new(
@@ -154,11 +151,6 @@ impl SoftTasksController {
         // The posture task tracks the law's accelerations (or Eq B.3's s̈*): no PD of its own.
         let posture = PostureTask::new(&model, DVector::zeros(na), DVector::zeros(na), q.clone());
         tf.tasks.add("posture", posture, 1, config.posture.weight)?;
-        if let Some(h) = &config.held {
-            let kd = h.kd.unwrap_or(2.0 * h.kp.sqrt());
-            let hold = JointHoldTask::new(&model, &h.joints, q.as_slice(), h.kp, kd)?;
-            tf.tasks.add("held joints", hold, 0, 1.0)?;
-        }
         if config.actuation_bounds {
             let cap = config.torque_limit.unwrap_or(f64::INFINITY);
             let limit = (model.effort_limit.rows(model.first_actuated(), na)).map(|e| e.min(cap));
@@ -253,11 +245,6 @@ impl SoftTasksController {
         })
     }
 
-    /// The state machine.
-    pub fn fsm(&self) -> &StateMachine {
-        &self.fsm
-    }
-
     /// Moves the references to the machine's set-points and switches contacts.
     fn follow_fsm(&mut self, t: f64) -> std::result::Result<(), FallbackReason> {
         let ts = self.fsm.t_smooth();
@@ -282,8 +269,7 @@ impl SoftTasksController {
                 let m = &foot.contact.motion;
                 let swing = Se3Task::new(self.model.nv, m.frame, m.kp, m.kd, at_rest(placement));
                 let weight = self.config.weights.swing;
-                // An equality in the strict-tasks controller (Eq 2.40c), a cost otherwise.
-                let priority = if self.config.strict { 0 } else { 1 };
+                let priority = self.config.cartesian_priority();
                 self.tf
                     .tasks
                     .add(&foot.swing_task, swing, priority, weight)

@@ -24,9 +24,8 @@ pub struct PostureLaw {
     kd: DVector<f64>,
     /// The posture reference, per joint of `joints`.
     reference: Vec<f64>,
-    /// The joints whose limits the file gives: the re-parametrised law acts on them (the
-    /// others keep the classical PD) and their margin is watched (else every joint's).
-    watched: Vec<usize>,
+    /// Per joint, whether the file gives its limits: the re-parametrised law acts on those
+    /// (the others keep the classical PD) and their margin is watched (else every joint's).
     given: Vec<bool>,
 }
 
@@ -44,8 +43,8 @@ impl PostureLaw {
         limits: Option<&JointLimitsConfig>,
     ) -> Result<Self> {
         let first = model.first_actuated();
-        let (mut joints, mut names, mut lower, mut upper, mut reference) =
-            (vec![], vec![], vec![], vec![], vec![]);
+        let (mut joints, mut names, mut lower, mut upper, mut reference, mut given) =
+            (vec![], vec![], vec![], vec![], vec![], vec![]);
         for j in model
             .joints
             .iter()
@@ -60,7 +59,9 @@ impl PostureLaw {
                 model.lower_position_limit[j.idx_q],
                 model.upper_position_limit[j.idx_q],
             );
-            if let Some([a, b]) = limits.and_then(|l| l.limits_deg.get(&j.name)) {
+            let listed = limits.and_then(|l| l.limits_deg.get(&j.name));
+            given.push(listed.is_some());
+            if let Some([a, b]) = listed {
                 if !(a.is_finite() && b.is_finite() && b > a) {
                     bail!(
                         "joint_limits.limits_deg.{}: [{a}, {b}] is not an interval",
@@ -99,8 +100,7 @@ impl PostureLaw {
         let map = TanhJointMap::new(&lo, &hi, xi_max)?;
         if law == Law::Reparametrised {
             for (i, r) in reference.iter().enumerate() {
-                let listed = limits.is_some_and(|l| l.limits_deg.contains_key(&names[i]));
-                if listed && map.xi_of_reference(i, *r).is_err() {
+                if given[i] && map.xi_of_reference(i, *r).is_err() {
                     bail!(
                         "posture: the reference of '{}' ({:.2}°) is not inside its limits [{:.2}°, {:.2}°], which the re-parametrised law needs",
                         names[i],
@@ -111,18 +111,8 @@ impl PostureLaw {
                 }
             }
         }
-        let given: Vec<usize> = (0..names.len())
-            .filter(|&i| limits.is_some_and(|l| l.limits_deg.contains_key(&names[i])))
-            .collect();
-        let mask = (0..names.len()).map(|i| given.contains(&i)).collect();
-        let watched = if given.is_empty() {
-            (0..names.len()).collect()
-        } else {
-            given
-        };
         Ok(Self {
-            watched,
-            given: mask,
+            given,
             joints,
             names,
             lower: lo,
@@ -154,7 +144,8 @@ impl PostureLaw {
     /// every one) to one of its limits at `q` (rad; negative past it) and that joint's index.
     pub fn margin(&self, q: &DVector<f64>) -> (f64, usize) {
         let mut best = (f64::INFINITY, 0);
-        for &i in &self.watched {
+        let all = !self.given.contains(&true);
+        for i in (0..self.joints.len()).filter(|&i| all || self.given[i]) {
             let iq = self.joints[i].0;
             let m = (q[iq] - self.lower[i]).min(self.upper[i] - q[iq]);
             if m < best.0 {
