@@ -111,7 +111,13 @@ where
             }
             let t = index as f64 * settings.dt;
             self.references.sample(t, &mut self.current);
-            self.plant.sense(&mut sensed).map_err(LoopError::Plant)?;
+            match self.plant.sense(&mut sensed) {
+                Ok(()) => {}
+                Err(PlantError::Diverged { t, reason }) => {
+                    return Ok(done(LoopEnd::Diverged { t, reason }))
+                }
+                Err(e) => return Err(LoopError::Plant(e)),
+            }
             self.plant.prepare();
             let readings = match (&settings.feed, &sensed.truth) {
                 (Feed::Exact, Some(truth)) => &truth.readings,

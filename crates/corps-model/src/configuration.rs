@@ -81,6 +81,12 @@ pub fn integrate_to(model: &Model, q: &[f64], v: &[f64], out: &mut [f64]) -> Res
             JointKind::FreeFlyer => {
                 let m = ff_placement(&q[iq..]) * exp6(&Motion::from_slice(&v[iv..iv + 6]));
                 write_ff(&m, &mut out[iq..iq + 7]);
+                // The quaternion in q's hemisphere, as Pinocchio keeps it (a continuous
+                // trajectory of quaternions, not w ≥ 0).
+                let dot: f64 = (3..7).map(|k| out[iq + k] * q[iq + k]).sum();
+                if dot < 0.0 {
+                    out[iq + 3..iq + 7].iter_mut().for_each(|x| *x = -*x);
+                }
             }
             JointKind::RevoluteUnbounded { .. } => {
                 let (s, c) = v[iv].sin_cos();

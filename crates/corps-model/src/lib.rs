@@ -55,9 +55,9 @@ pub use algorithms::coriolis::coriolis_matrix;
 pub use algorithms::crba::{crba, crba_at_jacobians};
 pub use algorithms::energy::{kinetic_energy, potential_energy};
 pub use algorithms::jacobians::{
-    compute_joint_jacobians, frame_acceleration, frame_classical_acceleration, frame_jacobian,
-    frame_placement, frame_velocity, update_frame_placements, world_motions_from_jacobians,
-    ReferenceFrame,
+    compute_frame_jacobian, compute_joint_jacobians, frame_acceleration,
+    frame_classical_acceleration, frame_jacobian, frame_placement, frame_velocity,
+    update_frame_placements, world_motions_from_jacobians, ReferenceFrame,
 };
 pub use algorithms::kinematics::{forward_kinematics, forward_kinematics_placements};
 pub use algorithms::minverse::compute_minverse;

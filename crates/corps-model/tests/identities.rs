@@ -772,3 +772,27 @@ fn a_subtree_is_the_range_of_joints_its_root_supports() {
         }
     }
 }
+
+#[test]
+fn one_frame_jacobian_equals_the_full_pass() {
+    for (name, model) in robots() {
+        let (mut full, mut one) = (Data::new(&model), Data::new(&model));
+        let (mut expected, mut got) = (Matrix6xX::zeros(model.nv), Matrix6xX::zeros(model.nv));
+        for s in 0..STATES {
+            let (q, _, _, _) = random_state(&model, s);
+            compute_joint_jacobians(&model, &mut full, q.as_slice()).unwrap();
+            for f in test_frames(&model) {
+                for rf in [
+                    ReferenceFrame::Local,
+                    ReferenceFrame::World,
+                    ReferenceFrame::LocalWorldAligned,
+                ] {
+                    frame_jacobian(&model, &full, f, rf, &mut expected).unwrap();
+                    compute_frame_jacobian(&model, &mut one, q.as_slice(), f, rf, &mut got)
+                        .unwrap();
+                    assert_eq!(expected, got, "{name} frame {f} {rf:?}");
+                }
+            }
+        }
+    }
+}

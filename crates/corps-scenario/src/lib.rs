@@ -28,6 +28,7 @@ mod gait;
 pub mod metrics;
 pub mod motion;
 pub mod numbers;
+pub mod overrides;
 pub mod pid_gains;
 pub mod press;
 pub mod pushes;

@@ -44,6 +44,7 @@ mod contact_points;
 mod disturbance;
 pub mod drive;
 mod error;
+mod external;
 mod overlap;
 mod placement;
 mod plant;
@@ -57,11 +58,12 @@ pub use contact_points::{sample_contact_points, ContactPoint, ShapeBound};
 pub use disturbance::Push;
 pub use drive::{DriveState, Drives, FlexibleDrive};
 pub use error::{Result, SimError};
+pub use external::{ExternalPlant, PlantState, StatePlant};
 pub use overlap::Overlap;
 pub use placement::place_on_ground;
 pub use plant::SimulatedRobot;
 pub use sensors::{
-    ForceTorqueModel, ImuReading, Noise, Readings, SensorLayout, SensorNoise, Sensors,
+    ForceTorqueModel, ImuReading, Noise, Readings, SensorInput, SensorLayout, SensorNoise, Sensors,
 };
 pub use simulator::{ContactState, Integrator, SimSettings, Simulator};
 pub use terrain::{Penetration, Surface, Terrain, TerrainPreset};

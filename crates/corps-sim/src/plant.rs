@@ -94,15 +94,22 @@ impl SimulatedRobot {
     }
 
     /// The simulator back (the worker stops).
-    pub fn into_simulator(mut self) -> Result<Simulator, PlantError> {
+    pub fn into_simulator(self) -> Result<Simulator, PlantError> {
+        self.into_parts().map(|(sim, _)| sim)
+    }
+
+    /// The simulator and its sensors back (the worker stops).
+    pub fn into_parts(mut self) -> Result<(Simulator, Sensors), PlantError> {
         self.stop_worker();
         let shared = self.shared.clone();
+        let sensors = self.sensors.clone();
         drop(self);
-        Arc::try_unwrap(shared)
+        let sim = Arc::try_unwrap(shared)
             .map_err(|_| worker_failed())?
             .sim
             .into_inner()
-            .map_err(|_| worker_failed())
+            .map_err(|_| worker_failed())?;
+        Ok((sim, sensors))
     }
 
     fn stop_worker(&mut self) {

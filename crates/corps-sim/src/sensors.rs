@@ -119,7 +119,25 @@ fn transmitted_wrench(
     f
 }
 
-/// Reads the simulator's sensors.
+/// What sensors read of a plant's state.
+pub struct SensorInput<'a> {
+    /// Plant time (s).
+    pub time: f64,
+    /// Configuration (size nq).
+    pub q: &'a [f64],
+    /// Velocity (size nv).
+    pub v: &'a [f64],
+    /// Joint torques applied over the last period (size nv; the free-flyer's entries unused).
+    pub applied_torques: &'a [f64],
+    /// Kinematics at this state: `o_m_i`, and the world twists `ov` and accelerations `oa`
+    /// (gravity field included) that [`corps_model::aba_with_external_forces`] leaves.
+    pub data: &'a corps_model::Data,
+    /// The contact wrench on each joint's body (world frame, moment about the origin).
+    pub body_wrenches: &'a [Force],
+}
+
+/// A plant's sensors: encoders, joint torques, F/T sensors, IMU, base pose, with seeded noise.
+#[derive(Clone)]
 pub struct Sensors {
     layout: Vec<(String, usize, Se3)>,
     force_torque_model: ForceTorqueModel,
@@ -205,12 +223,24 @@ impl Sensors {
 
     /// Reads the simulator (call after each step). Allocation-free.
     pub fn update(&mut self, sim: &Simulator) {
-        let model = sim.model();
-        let (q, v, data) = (sim.q(), sim.v(), sim.data());
+        let input = SensorInput {
+            time: sim.time(),
+            q: sim.q().as_slice(),
+            v: sim.v().as_slice(),
+            applied_torques: sim.applied_torques().as_slice(),
+            data: sim.data(),
+            body_wrenches: &sim.contact().body_wrenches,
+        };
+        self.update_from(sim.model(), &input);
+    }
+
+    /// Reads a plant's state (any plant: the simulator, another engine). Allocation-free.
+    pub fn update_from(&mut self, model: &Model, input: &SensorInput<'_>) {
+        let (q, v, data) = (input.q, input.v, input.data);
         let first = first_actuated(model);
         let na = model.nv - first;
         let t = &mut self.truth;
-        t.time = sim.time();
+        t.time = input.time;
         for j in &model.joints {
             if j.idx_v < first {
                 continue;
@@ -221,10 +251,13 @@ impl Sensors {
                 _ => q[j.idx_q],
             };
         }
-        t.joint_velocities.copy_from(&v.rows(first, na));
+        t.joint_velocities
+            .as_mut_slice()
+            .copy_from_slice(&v[first..first + na]);
         t.joint_torques
-            .copy_from(&sim.applied_torques().rows(first, na));
-        let wrenches = &sim.contact().body_wrenches;
+            .as_mut_slice()
+            .copy_from_slice(&input.applied_torques[first..first + na]);
+        let wrenches = input.body_wrenches;
         for ((_, joint, placement), out) in self.layout.iter().zip(t.force_torque.iter_mut()) {
             let o_m_s = data.o_m_i[*joint] * *placement;
             let read = match self.force_torque_model {
@@ -250,8 +283,8 @@ impl Sensors {
             linear_acceleration: (r.transpose() * acc).into(),
         };
         if model.has_free_flyer() {
-            t.base_pose.copy_from_slice(&q.as_slice()[..7]);
-            t.base_twist.copy_from_slice(&v.as_slice()[..6]);
+            t.base_pose.copy_from_slice(&q[..7]);
+            t.base_twist.copy_from_slice(&v[..6]);
         }
         self.measured.copy_from(&self.truth);
         self.add_noise();

@@ -1,7 +1,7 @@
 //! Joint Jacobians in the world frame, and frame Jacobians in LOCAL, WORLD and
 //! LOCAL_WORLD_ALIGNED.
 
-use super::kinematics::placements;
+use super::kinematics::{place_joint, placements};
 use crate::data::{col_motion, set_col, Data};
 use crate::error::{ModelError, Result};
 use crate::joint::{unit_axis, Joint, JointKind};
@@ -173,6 +173,50 @@ pub fn frame_jacobian(
         joint = j.parent;
     }
     Ok(())
+}
+
+/// Longest chain from the root that [`compute_frame_jacobian`] places alone (deeper chains
+/// place every joint).
+const MAX_CHAIN: usize = 64;
+
+/// The Jacobian of frame `frame_id` at `q` in `rf`, written to `out` (6 × nv): Pinocchio's
+/// `computeFrameJacobian`. Places the frame's supporting joints and writes their world
+/// Jacobian columns only; the other placements and columns of `data` are left as they were.
+pub fn compute_frame_jacobian(
+    model: &Model,
+    data: &mut Data,
+    q: &[f64],
+    frame_id: usize,
+    rf: ReferenceFrame,
+    out: &mut Matrix6xX<f64>,
+) -> Result<()> {
+    model.check_configuration(q)?;
+    let frame = model
+        .frames
+        .get(frame_id)
+        .ok_or_else(|| ModelError::UnknownFrame(format!("#{frame_id}")))?;
+    let mut chain = [0usize; MAX_CHAIN];
+    let mut depth = 0;
+    let mut joint = frame.parent_joint;
+    while let Some(i) = joint {
+        if depth == MAX_CHAIN {
+            placements(model, data, q, false);
+            depth = 0;
+            break;
+        }
+        chain[depth] = i;
+        depth += 1;
+        joint = model.joints[i].parent;
+    }
+    for &i in chain[..depth].iter().rev() {
+        place_joint(&model.joints[i], i, data, q, false);
+    }
+    let mut joint = frame.parent_joint;
+    while let Some(i) = joint {
+        write_joint_columns(model, data, i);
+        joint = model.joints[i].parent;
+    }
+    frame_jacobian(model, data, frame_id, rf, out)
 }
 
 /// Velocity of frame `frame_id` in `rf`, after [`crate::forward_kinematics`].

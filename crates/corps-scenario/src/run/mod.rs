@@ -7,6 +7,7 @@
 
 mod columns;
 mod contacts;
+mod plant;
 mod recorder;
 
 pub use columns::log_columns;
@@ -29,8 +30,9 @@ use corps_loop::verdict::VerdictObserver;
 use corps_loop::{ClosedLoop, LoopEnd, LoopSettings};
 use corps_model::STANDARD_GRAVITY as GRAVITY;
 use corps_model::{com_at_placements, frame_placement};
-use corps_sim::{Overlap, SimulatedRobot};
+use corps_sim::{ExternalPlant, Overlap, SimulatedRobot, StatePlant};
 use nalgebra::Vector3;
+use plant::RunPlant;
 use recorder::{Recorder, RecorderSetup};
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -72,7 +74,7 @@ pub struct RunResult {
 
 /// A scenario ready to run: built, checked and settled.
 pub struct ScenarioRun {
-    closed_loop: ClosedLoop<SimulatedRobot, KinematicEstimator, ScenarioController, MotionPlan>,
+    closed_loop: ClosedLoop<RunPlant, KinematicEstimator, ScenarioController, MotionPlan>,
     settings: LoopSettings,
     recorder: RecorderSetup,
     metrics: Metrics,
@@ -300,7 +302,7 @@ impl ScenarioRun {
         let current = plan.initial_targets();
         Ok(Self {
             closed_loop: ClosedLoop {
-                plant: SimulatedRobot::new(sim, sensors, options.overlap),
+                plant: RunPlant::Simulated(SimulatedRobot::new(sim, sensors, options.overlap)),
                 estimator,
                 controller: ScenarioController::new(inner),
                 references: plan,
@@ -332,6 +334,35 @@ impl ScenarioRun {
             dynamic_filter,
             interrupt: options.interrupt,
         })
+    }
+
+    /// Runs on `plant` instead of corps' simulator: the plant starts from the settled state
+    /// (the simulator's, after `[controller] settle`) and is read through the scenario's
+    /// sensors, with their noise. Pushes, terrain changes and the simulator's settings are
+    /// the simulator's own and do not carry over.
+    pub fn with_plant(mut self, plant: Box<dyn StatePlant>) -> Result<Self> {
+        let ClosedLoop {
+            plant: current_plant,
+            estimator,
+            controller,
+            references,
+            current,
+        } = self.closed_loop;
+        let RunPlant::Simulated(sim) = current_plant else {
+            bail!("the run already has its own plant");
+        };
+        let (sim, sensors) = sim.into_parts()?;
+        let model = sim.model().clone();
+        let start = (sim.q().as_slice(), sim.v().as_slice(), sim.time());
+        let external = ExternalPlant::new(plant, model, sensors, start, self.settings.dt)?;
+        self.closed_loop = ClosedLoop {
+            plant: RunPlant::External(external),
+            estimator,
+            controller,
+            references,
+            current,
+        };
+        Ok(self)
     }
 
     /// The time series' columns.
@@ -383,10 +414,10 @@ impl ScenarioRun {
         }
         m.tick_time = rec.tick_time.summary();
         m.verdict = rec.verdict.finish(m.duration);
-        m.overlapped_ticks = closed_loop.plant.overlap_counts().0;
+        m.overlapped_ticks = closed_loop.plant.overlapped_ticks();
         m.estimator_errors = rec.estimator_errors;
         m.first_estimator_error = rec.first_estimator_error.take();
-        let sim = closed_loop.plant.into_simulator()?;
+        let q = closed_loop.plant.final_configuration()?;
         if let Some(walk) = closed_loop.references.walk() {
             // Where the plan puts the base: its final feet midpoint plus the base's starting
             // offset from the feet midpoint.
@@ -398,7 +429,6 @@ impl ScenarioRun {
             ));
             let mid0 = (feet0[0].translation + feet0[1].translation) / 2.0;
             let planned = mid + (base0 - mid0);
-            let q = sim.q();
             let base = Vector3::new(q[0], q[1], q[2]);
             let distance = (base - base0).xy().norm();
             let weight = mass * GRAVITY * distance.max(1e-9);

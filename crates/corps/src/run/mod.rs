@@ -35,6 +35,7 @@ use crate::progress::Progress;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
 use corps_loop::verdict::Verdict;
+use corps_scenario::overrides::Overrides;
 use corps_scenario::run::{RowSink, ScenarioRun};
 use corps_scenario::scenario::Scenario;
 use corps_scenario::ScenarioError;
@@ -263,30 +264,14 @@ pub fn run_text(
     options: RunOptions,
 ) -> Result<RunReport> {
     let shown = path.display();
-    let mut scenario = Scenario::parse(text).map_err(|e| anyhow!("{shown}: {e}"))?;
-    if let Some(d) = duration {
-        scenario = scenario
-            .with_duration(d)
-            .map_err(|e| anyhow!("{shown}: {e}"))?;
-    }
-    if let Some(mb) = options.max_log_mb {
-        scenario = scenario
-            .with_max_log_mb(mb)
-            .map_err(|e| anyhow!("{shown}: {e}"))?;
-    }
-    if let Some(robot) = &options.robot {
-        scenario.robot = corps_scenario::scenario::RobotSection::from_argument(robot);
-    }
-    if let Some(kind) = options.estimator {
-        scenario.estimator.kind = kind;
-    }
-    if let Some(profile) = &options.noise {
-        scenario.noise = profile.noise.clone();
-        scenario.seed = profile.seed.unwrap_or(scenario.seed);
-        scenario.force_torque_model = profile
-            .force_torque_model
-            .unwrap_or(scenario.force_torque_model);
-    }
+    let overrides = Overrides {
+        duration,
+        max_log_mb: options.max_log_mb,
+        robot: options.robot.clone(),
+        estimator: options.estimator,
+        noise: options.noise.clone(),
+    };
+    let scenario = Scenario::parse_with(text, path, &overrides).map_err(|e| anyhow!(e))?;
     let name = scenario.run_name(path);
     let base_dir = path.parent().unwrap_or(Path::new("."));
     let dir = output

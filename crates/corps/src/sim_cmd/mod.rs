@@ -95,14 +95,7 @@ pub fn run(args: SimArgs) -> Result<()> {
 
 /// The text of the scenario file at `path`, or a one-line error naming it.
 pub fn read_scenario(path: &Path) -> Result<String> {
-    let shown = path.display();
-    match std::fs::read_to_string(path) {
-        Ok(t) => Ok(t),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            bail!("{shown}: no such scenario file")
-        }
-        Err(e) => bail!("{shown}: cannot read the scenario file: {e}"),
-    }
+    corps_scenario::overrides::read_file(path).map_err(|e| anyhow::anyhow!(e))
 }
 
 /// Runs the simulation, logging each tick; writes the log and plots once it finished, or once

@@ -1,0 +1,214 @@
+//! A plant outside corps-sim (another physics engine, a plant written in Python) that reports
+//! only its true state; corps reads its sensors from that state with the same sensor model
+//! and noise as the simulator's, so that the controller and the estimator see the same kind
+//! of readings whatever computes the physics.
+//!
+//! The sensors need the bodies' accelerations (the IMU, an F/T sensor's inertial part): they
+//! come from ABA at the reported state with the reported contact forces, `q̈ = ABA(q, v, τ,
+//! f_c)`, which is what the plant's own physics integrates up to its contact model.
+
+use crate::Sensors;
+use corps_loop::{Command, ContactForce, Plant, PlantError, Sensed, Truth};
+use corps_model::spatial::Force;
+use corps_model::{aba_with_external_forces, com_at_placements, Data, Model};
+use nalgebra::{DVector, Vector3};
+use std::sync::Arc;
+
+/// Contact points reserved in the truth (more are accepted, at the cost of an allocation).
+const CONTACT_CAPACITY: usize = 256;
+
+/// The true state a [`StatePlant`] reports.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlantState {
+    /// Plant time (s).
+    pub time: f64,
+    /// Configuration (size nq, Pinocchio's convention).
+    pub q: DVector<f64>,
+    /// Velocity (size nv).
+    pub v: DVector<f64>,
+    /// Joint torques applied over the last period (size nv; the free-flyer's entries zero).
+    pub applied_torques: DVector<f64>,
+    /// Contact forces at points, world frame, each on the body of a joint of the model.
+    pub contacts: Vec<ContactForce>,
+}
+
+impl PlantState {
+    /// A zero state sized for `model`.
+    pub fn zeros(model: &Model) -> Self {
+        Self {
+            time: 0.0,
+            q: corps_model::neutral(model),
+            v: DVector::zeros(model.nv),
+            applied_torques: DVector::zeros(model.nv),
+            contacts: Vec::new(),
+        }
+    }
+}
+
+/// A plant that computes its own physics and reports its true state.
+pub trait StatePlant: Send {
+    /// Starts from configuration `q` and velocity `v` at time `t`; each [`StatePlant::step`]
+    /// lasts `dt` seconds.
+    fn reset(&mut self, q: &[f64], v: &[f64], t: f64, dt: f64) -> Result<(), PlantError>;
+    /// Applies `command` for one control period.
+    fn step(&mut self, command: &Command) -> Result<(), PlantError>;
+    /// Writes the current true state into `out` (sized by [`PlantState::zeros`]).
+    fn state(&mut self, out: &mut PlantState) -> Result<(), PlantError>;
+}
+
+impl<P: StatePlant + ?Sized> StatePlant for Box<P> {
+    fn reset(&mut self, q: &[f64], v: &[f64], t: f64, dt: f64) -> Result<(), PlantError> {
+        (**self).reset(q, v, t, dt)
+    }
+    fn step(&mut self, command: &Command) -> Result<(), PlantError> {
+        (**self).step(command)
+    }
+    fn state(&mut self, out: &mut PlantState) -> Result<(), PlantError> {
+        (**self).state(out)
+    }
+}
+
+/// A [`StatePlant`] with corps' sensors on it: a loop [`Plant`].
+pub struct ExternalPlant<P: StatePlant> {
+    plant: P,
+    model: Arc<Model>,
+    data: Data,
+    sensors: Sensors,
+    state: PlantState,
+    wrenches: Vec<Force>,
+    /// The state and the sensors are read since the last step.
+    fresh: bool,
+}
+
+impl<P: StatePlant> ExternalPlant<P> {
+    /// `plant` read through `sensors`, started at (`q`, `v`, `t`) with control period `dt`.
+    pub fn new(
+        mut plant: P,
+        model: Arc<Model>,
+        sensors: Sensors,
+        (q, v, t): (&[f64], &[f64], f64),
+        dt: f64,
+    ) -> Result<Self, PlantError> {
+        plant.reset(q, v, t, dt)?;
+        Ok(Self {
+            data: Data::new(&model),
+            state: PlantState::zeros(&model),
+            wrenches: vec![Force::zero(); model.njoints()],
+            fresh: false,
+            plant,
+            model,
+            sensors,
+        })
+    }
+
+    /// The state last reported (after the last step, once a step succeeded).
+    pub fn last_state(&self) -> &PlantState {
+        &self.state
+    }
+
+    /// The plant back.
+    pub fn into_inner(self) -> P {
+        self.plant
+    }
+
+    /// Reads the plant's state, checks it and updates the sensors.
+    fn read(&mut self) -> Result<(), PlantError> {
+        self.plant.state(&mut self.state)?;
+        let (model, s) = (&*self.model, &self.state);
+        let bad = |what: &str| PlantError::Failed(format!("the plant's state: {what}"));
+        if s.q.len() != model.nq || s.v.len() != model.nv || s.applied_torques.len() != model.nv {
+            return Err(bad(&format!(
+                "q, v, torques of sizes {}, {}, {} (the model has nq = {}, nv = {})",
+                s.q.len(),
+                s.v.len(),
+                s.applied_torques.len(),
+                model.nq,
+                model.nv
+            )));
+        }
+        let finite = |x: &DVector<f64>| x.iter().all(|y| y.is_finite());
+        if !(s.time.is_finite() && finite(&s.q) && finite(&s.v)) {
+            return Err(PlantError::Diverged {
+                t: s.time,
+                reason: "the plant reported a non-finite state".into(),
+            });
+        }
+        self.wrenches.fill(Force::zero());
+        for c in &s.contacts {
+            let Some(w) = self.wrenches.get_mut(c.joint) else {
+                return Err(bad(&format!(
+                    "a contact on joint {} (the model has {})",
+                    c.joint,
+                    model.njoints()
+                )));
+            };
+            *w += Force::new(c.force, c.position.cross(&c.force));
+        }
+        let wrenches = &self.wrenches;
+        let (q, v, tau) = (s.q.as_slice(), s.v.as_slice(), s.applied_torques.as_slice());
+        aba_with_external_forces(model, &mut self.data, q, v, tau, |_, _, f| {
+            f.copy_from_slice(wrenches)
+        })
+        .map_err(|e| bad(&e.to_string()))?;
+        let input = crate::SensorInput {
+            time: s.time,
+            q,
+            v,
+            applied_torques: tau,
+            data: &self.data,
+            body_wrenches: wrenches,
+        };
+        self.sensors.update_from(model, &input);
+        self.fresh = true;
+        Ok(())
+    }
+}
+
+impl<P: StatePlant> Plant for ExternalPlant<P> {
+    fn sensed(&self) -> Sensed {
+        let readings = self.sensors.measured().clone();
+        let model = &*self.model;
+        Sensed {
+            time: self.state.time,
+            truth: Some(Truth {
+                q: corps_model::neutral(model),
+                v: DVector::zeros(model.nv),
+                applied_torques: DVector::zeros(model.nv),
+                com: Vector3::zeros(),
+                com_velocity: Vector3::zeros(),
+                joint_placements: self.data.o_m_i.clone(),
+                contacts: Vec::with_capacity(CONTACT_CAPACITY),
+                readings: readings.clone(),
+            }),
+            readings,
+        }
+    }
+
+    fn sense(&mut self, out: &mut Sensed) -> Result<(), PlantError> {
+        if !self.fresh {
+            self.read()?;
+        }
+        let s = &self.state;
+        out.time = s.time;
+        out.readings.copy_from(self.sensors.measured());
+        if let Some(truth) = &mut out.truth {
+            truth.readings.copy_from(self.sensors.truth());
+            truth.q.copy_from(&s.q);
+            truth.v.copy_from(&s.v);
+            truth.applied_torques.copy_from(&s.applied_torques);
+            (truth.com, truth.com_velocity) = com_at_placements(&self.model, &self.data);
+            truth.joint_placements.copy_from_slice(&self.data.o_m_i);
+            truth.contacts.clear();
+            truth.contacts.extend_from_slice(&s.contacts);
+        }
+        Ok(())
+    }
+
+    /// Steps the plant and reads its new state at once, so that a state that blew up ends
+    /// the run as diverged.
+    fn step(&mut self, command: &Command) -> Result<(), PlantError> {
+        self.fresh = false;
+        self.plant.step(command)?;
+        self.read()
+    }
+}

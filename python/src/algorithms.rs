@@ -1,0 +1,376 @@
+//! The rigid-body algorithms under Pinocchio's Python names (snake_case), each checking its
+//! inputs' sizes and that `data` belongs to `model`. Results are returned as new arrays and
+//! also kept in `data`.
+
+use crate::arrays::{matrix, slice, vector, VectorArg};
+use crate::errors::{model_error, ModelError};
+use crate::model::{
+    random_configuration as random_q, FrameRef, PyData, PyModel, PyReferenceFrame, PySe3,
+};
+use corps_model as cm;
+use nalgebra::Matrix6xX;
+use numpy::{PyArray1, PyArray2};
+use pyo3::prelude::*;
+
+type Vector<'py> = PyResult<Bound<'py, PyArray1<f64>>>;
+type MatrixOut<'py> = PyResult<Bound<'py, PyArray2<f64>>>;
+
+/// Inverse dynamics τ = M(q) a + C(q, v) v + g(q) (RNEA; N·m, N).
+#[pyfunction]
+pub fn rnea<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+    v: VectorArg<'_>,
+    a: VectorArg<'_>,
+) -> Vector<'py> {
+    data.check(model)?;
+    let tau = cm::rnea(
+        &model.inner,
+        &mut data.inner,
+        &slice(&q),
+        &slice(&v),
+        &slice(&a),
+    )
+    .map_err(model_error)?;
+    Ok(vector(py, tau.as_slice()))
+}
+
+/// Non-linear effects h(q, v) = C(q, v) v + g(q).
+#[pyfunction]
+pub fn nonlinear_effects<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+    v: VectorArg<'_>,
+) -> Vector<'py> {
+    data.check(model)?;
+    let h = cm::nonlinear_effects(&model.inner, &mut data.inner, &slice(&q), &slice(&v))
+        .map_err(model_error)?;
+    Ok(vector(py, h.as_slice()))
+}
+
+/// Generalized gravity g(q).
+#[pyfunction]
+pub fn compute_generalized_gravity<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+) -> Vector<'py> {
+    data.check(model)?;
+    let g =
+        cm::generalized_gravity(&model.inner, &mut data.inner, &slice(&q)).map_err(model_error)?;
+    Ok(vector(py, g.as_slice()))
+}
+
+/// Joint-space inertia matrix M(q) (CRBA), both triangles filled (Pinocchio fills the upper).
+#[pyfunction]
+pub fn crba<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+) -> MatrixOut<'py> {
+    data.check(model)?;
+    let m = cm::crba(&model.inner, &mut data.inner, &slice(&q)).map_err(model_error)?;
+    Ok(matrix(py, m))
+}
+
+/// M(q)⁻¹ by the O(n²) recursion, both triangles filled.
+#[pyfunction]
+pub fn compute_minverse<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+) -> MatrixOut<'py> {
+    data.check(model)?;
+    let m = cm::compute_minverse(&model.inner, &mut data.inner, &slice(&q)).map_err(model_error)?;
+    Ok(matrix(py, m))
+}
+
+/// Forward dynamics a = M⁻¹(τ − h) (ABA; rad/s², m/s²).
+#[pyfunction]
+pub fn aba<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+    v: VectorArg<'_>,
+    tau: VectorArg<'_>,
+) -> Vector<'py> {
+    data.check(model)?;
+    let a = cm::aba(
+        &model.inner,
+        &mut data.inner,
+        &slice(&q),
+        &slice(&v),
+        &slice(&tau),
+    )
+    .map_err(model_error)?;
+    Ok(vector(py, a.as_slice()))
+}
+
+/// Placements (and with v, a: velocities, accelerations) of every joint; read them with
+/// `data.oMi` or `frame_placement`.
+#[pyfunction]
+#[pyo3(signature = (model, data, q, v = None, a = None))]
+pub fn forward_kinematics(
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+    v: Option<VectorArg<'_>>,
+    a: Option<VectorArg<'_>>,
+) -> PyResult<()> {
+    data.check(model)?;
+    let (m, d) = (&model.inner, &mut data.inner);
+    match (v, a) {
+        (None, None) => cm::forward_kinematics_placements(m, d, &slice(&q)),
+        (Some(v), None) => {
+            let zero = vec![0.0; m.nv];
+            cm::forward_kinematics(m, d, &slice(&q), &slice(&v), &zero)
+        }
+        (Some(v), Some(a)) => cm::forward_kinematics(m, d, &slice(&q), &slice(&v), &slice(&a)),
+        (None, Some(_)) => {
+            return Err(ModelError::new_err(
+                "forward_kinematics: an acceleration needs a velocity",
+            ))
+        }
+    }
+    .map_err(model_error)
+}
+
+/// World placement of `frame` (id or name) from the last forward kinematics.
+#[pyfunction]
+pub fn frame_placement(
+    model: &PyModel,
+    data: PyRef<'_, PyData>,
+    frame: FrameRef,
+) -> PyResult<PySe3> {
+    data.check(model)?;
+    let id = frame.id(&model.inner)?;
+    let m = cm::frame_placement(&model.inner, &data.inner, id).map_err(model_error)?;
+    Ok(PySe3 { inner: m })
+}
+
+/// Joint Jacobians in the world frame at q (6 × nv, `data.J`).
+#[pyfunction]
+pub fn compute_joint_jacobians<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+) -> MatrixOut<'py> {
+    data.check(model)?;
+    let j = cm::compute_joint_jacobians(&model.inner, &mut data.inner, &slice(&q))
+        .map_err(model_error)?;
+    Ok(matrix(py, j))
+}
+
+/// The Jacobian of `frame` (id or name) at q in `reference_frame` (6 × nv, [linear; angular]).
+#[pyfunction]
+#[pyo3(signature = (model, data, q, frame, reference_frame = PyReferenceFrame::LOCAL))]
+pub fn compute_frame_jacobian<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+    frame: FrameRef,
+    reference_frame: PyReferenceFrame,
+) -> MatrixOut<'py> {
+    data.check(model)?;
+    let id = frame.id(&model.inner)?;
+    let mut out = Matrix6xX::zeros(model.inner.nv);
+    cm::compute_frame_jacobian(
+        &model.inner,
+        &mut data.inner,
+        &slice(&q),
+        id,
+        reference_frame.into(),
+        &mut out,
+    )
+    .map_err(model_error)?;
+    Ok(matrix(py, &out))
+}
+
+/// The Jacobian of `frame` from the joint Jacobians already in `data` (after
+/// `compute_joint_jacobians` at the same q).
+#[pyfunction]
+#[pyo3(signature = (model, data, frame, reference_frame = PyReferenceFrame::LOCAL))]
+pub fn get_frame_jacobian<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    data: PyRef<'_, PyData>,
+    frame: FrameRef,
+    reference_frame: PyReferenceFrame,
+) -> MatrixOut<'py> {
+    data.check(model)?;
+    let id = frame.id(&model.inner)?;
+    frame_jacobian(py, &model.inner, &data.inner, id, reference_frame)
+}
+
+fn frame_jacobian<'py>(
+    py: Python<'py>,
+    model: &cm::Model,
+    data: &cm::Data,
+    id: usize,
+    rf: PyReferenceFrame,
+) -> MatrixOut<'py> {
+    let mut out = Matrix6xX::zeros(model.nv);
+    cm::frame_jacobian(model, data, id, rf.into(), &mut out).map_err(model_error)?;
+    Ok(matrix(py, &out))
+}
+
+/// Centre of mass (m, world); with v and a also its velocity and acceleration
+/// (`data.vcom`, `data.acom`).
+#[pyfunction]
+#[pyo3(signature = (model, data, q, v = None, a = None))]
+pub fn center_of_mass<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+    v: Option<VectorArg<'_>>,
+    a: Option<VectorArg<'_>>,
+) -> Vector<'py> {
+    data.check(model)?;
+    let nv = model.inner.nv;
+    let zero = vec![0.0; nv];
+    let v = v.as_ref().map(slice);
+    let a = a.as_ref().map(slice);
+    if v.is_none() && a.is_some() {
+        return Err(ModelError::new_err(
+            "center_of_mass: an acceleration needs a velocity",
+        ));
+    }
+    if v.is_none() {
+        // Placements only: c = Σ m_i ᵒM_i c_i / m.
+        let (m, d) = (&*model.inner, &mut data.inner);
+        cm::forward_kinematics_placements(m, d, &slice(&q)).map_err(model_error)?;
+        d.com = cm::com_at_placements(m, d).0;
+        return Ok(vector(py, d.com.as_slice()));
+    }
+    let c = cm::center_of_mass(
+        &model.inner,
+        &mut data.inner,
+        &slice(&q),
+        v.as_deref().unwrap_or(&zero),
+        a.as_deref().unwrap_or(&zero),
+    )
+    .map_err(model_error)?;
+    Ok(vector(py, c.as_slice()))
+}
+
+/// CoM Jacobian (3 × nv, world axes); also sets `data.com`.
+#[pyfunction]
+pub fn jacobian_center_of_mass<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+) -> MatrixOut<'py> {
+    data.check(model)?;
+    let j = cm::jacobian_center_of_mass(&model.inner, &mut data.inner, &slice(&q))
+        .map_err(model_error)?;
+    Ok(matrix(py, j))
+}
+
+/// Centroidal momentum matrix A_G (6 × nv, [linear; angular] about the CoM, world axes;
+/// Pinocchio's `computeCentroidalMap`).
+#[pyfunction]
+pub fn centroidal_map<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+) -> MatrixOut<'py> {
+    data.check(model)?;
+    let ag = cm::compute_centroidal_map(&model.inner, &mut data.inner, &slice(&q))
+        .map_err(model_error)?;
+    Ok(matrix(py, ag))
+}
+
+/// Centroidal momentum h_G = A_G v ([linear (kg·m/s); angular (kg·m²/s)] about the CoM).
+#[pyfunction]
+pub fn compute_centroidal_momentum<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+    v: VectorArg<'_>,
+) -> Vector<'py> {
+    data.check(model)?;
+    let h = cm::compute_centroidal_momentum(&model.inner, &mut data.inner, &slice(&q), &slice(&v))
+        .map_err(model_error)?;
+    let mut out = [0.0; 6];
+    out[..3].copy_from_slice(h.linear.as_slice());
+    out[3..].copy_from_slice(h.angular.as_slice());
+    Ok(vector(py, &out))
+}
+
+/// Kinetic energy ½ vᵀ M v (J).
+#[pyfunction]
+pub fn compute_kinetic_energy(
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+    v: VectorArg<'_>,
+) -> PyResult<f64> {
+    data.check(model)?;
+    cm::kinetic_energy(&model.inner, &mut data.inner, &slice(&q), &slice(&v)).map_err(model_error)
+}
+
+/// Potential energy of gravity (J, zero at the world origin's height).
+#[pyfunction]
+pub fn compute_potential_energy(
+    model: &PyModel,
+    mut data: PyRefMut<'_, PyData>,
+    q: VectorArg<'_>,
+) -> PyResult<f64> {
+    data.check(model)?;
+    cm::potential_energy(&model.inner, &mut data.inner, &slice(&q)).map_err(model_error)
+}
+
+/// The neutral configuration (unit quaternion, zero joints, continuous joints at angle 0).
+#[pyfunction]
+pub fn neutral<'py>(py: Python<'py>, model: &PyModel) -> Bound<'py, PyArray1<f64>> {
+    vector(py, cm::neutral(&model.inner).as_slice())
+}
+
+/// q ⊕ v: the configuration reached from q along v for unit time.
+#[pyfunction]
+pub fn integrate<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    q: VectorArg<'_>,
+    v: VectorArg<'_>,
+) -> Vector<'py> {
+    let out = cm::integrate(&model.inner, &slice(&q), &slice(&v)).map_err(model_error)?;
+    Ok(vector(py, out.as_slice()))
+}
+
+/// q1 ⊖ q0: the tangent vector that takes q0 to q1 in unit time.
+#[pyfunction]
+pub fn difference<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    q0: VectorArg<'_>,
+    q1: VectorArg<'_>,
+) -> Vector<'py> {
+    let out = cm::difference(&model.inner, &slice(&q0), &slice(&q1)).map_err(model_error)?;
+    Ok(vector(py, out.as_slice()))
+}
+
+/// A random configuration within the joint limits; `seed` makes it reproducible.
+#[pyfunction]
+#[pyo3(signature = (model, seed = None))]
+pub fn random_configuration<'py>(
+    py: Python<'py>,
+    model: &PyModel,
+    seed: Option<u64>,
+) -> Bound<'py, PyArray1<f64>> {
+    vector(py, random_q(&model.inner, seed).as_slice())
+}
