@@ -4,7 +4,7 @@ frame; spatial vectors and Jacobian rows are [linear; angular]."""
 
 from enum import Enum
 from os import PathLike
-from typing import Any, Dict, List, Optional, Sequence, Union
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -117,6 +117,15 @@ class Model:
     def frame_parent_joint(self, frame: Frame) -> Optional[int]:
         """The moving joint carrying `frame`; None for a frame fixed to the world."""
     def reference_configuration(self, name: str) -> Vector: ...
+    def bodies(self) -> List[Dict[str, Any]]:
+        """Per moving joint and its body, parents first: name, parent, kind (free, revolute,
+        continuous, prismatic), axis, placement (4 × 4 in the parent joint's frame), idx_q,
+        idx_v, mass (kg), com (m), inertia (3 × 3 about the CoM, kg·m²), effort."""
+    def collisions(self) -> List[Dict[str, Any]]:
+        """Collision primitives (meshes left out): link, joint, placement (4 × 4 in the joint's
+        frame), shape (box: size; cylinder: radius, length; sphere: radius), in m."""
+    def frame_attachment(self, frame: Frame) -> Tuple[Optional[int], SE3]:
+        """The moving joint carrying `frame` and its placement in that joint's frame."""
 
 class Data:
     """The algorithms' workspace; attributes are copies of the last results."""

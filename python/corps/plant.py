@@ -15,7 +15,13 @@ import numpy as np
 
 
 class Plant:
-    """Base class documenting the plant protocol (Pinocchio's q and v conventions)."""
+    """Base class documenting the plant protocol (Pinocchio's q and v conventions).
+
+    A plant that can push the robot also defines
+    `push(frame, start, duration, force, torque)`: the scenario's pushes, `force` (N, world
+    axes) at the origin of `frame` and `torque` (N·m, world axes) from time `start` for
+    `duration` seconds on the plant's clock, each given once after `reset`. A scenario with
+    pushes does not run on a plant without it."""
 
     def reset(self, q: np.ndarray, v: np.ndarray, t: float, dt: float) -> None:
         """Start from configuration q (size nq) and velocity v (size nv) at time t (s);

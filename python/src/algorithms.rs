@@ -52,44 +52,53 @@ pub fn nonlinear_effects<'py>(
     Ok(vector(py, h.as_slice()))
 }
 
-/// Generalized gravity g(q).
-#[pyfunction]
-pub fn compute_generalized_gravity<'py>(
-    py: Python<'py>,
-    model: &PyModel,
-    mut data: PyRefMut<'_, PyData>,
-    q: VectorArg<'_>,
-) -> Vector<'py> {
-    data.check(model)?;
-    let g =
-        cm::generalized_gravity(&model.inner, &mut data.inner, &slice(&q)).map_err(model_error)?;
-    Ok(vector(py, g.as_slice()))
+/// Defines a Python function `name(model, data, q)` over a corps-model algorithm of the
+/// configuration alone, returning its result as a new array.
+macro_rules! of_configuration {
+    ($(#[doc = $doc:expr])* $name:ident => $algorithm:path, $out:ident -> $ret:ty) => {
+        $(#[doc = $doc])*
+        #[pyfunction]
+        pub fn $name<'py>(
+            py: Python<'py>,
+            model: &PyModel,
+            mut data: PyRefMut<'_, PyData>,
+            q: VectorArg<'_>,
+        ) -> PyResult<Bound<'py, $ret>> {
+            data.check(model)?;
+            let r = $algorithm(&model.inner, &mut data.inner, &slice(&q)).map_err(model_error)?;
+            Ok($out(py, r))
+        }
+    };
 }
 
-/// Joint-space inertia matrix M(q) (CRBA), both triangles filled (Pinocchio fills the upper).
-#[pyfunction]
-pub fn crba<'py>(
-    py: Python<'py>,
-    model: &PyModel,
-    mut data: PyRefMut<'_, PyData>,
-    q: VectorArg<'_>,
-) -> MatrixOut<'py> {
-    data.check(model)?;
-    let m = cm::crba(&model.inner, &mut data.inner, &slice(&q)).map_err(model_error)?;
-    Ok(matrix(py, m))
+fn column<'py>(py: Python<'py>, x: &nalgebra::DVector<f64>) -> Bound<'py, PyArray1<f64>> {
+    vector(py, x.as_slice())
 }
 
-/// M(q)⁻¹ by the O(n²) recursion, both triangles filled.
-#[pyfunction]
-pub fn compute_minverse<'py>(
-    py: Python<'py>,
-    model: &PyModel,
-    mut data: PyRefMut<'_, PyData>,
-    q: VectorArg<'_>,
-) -> MatrixOut<'py> {
-    data.check(model)?;
-    let m = cm::compute_minverse(&model.inner, &mut data.inner, &slice(&q)).map_err(model_error)?;
-    Ok(matrix(py, m))
+of_configuration! {
+    /// Generalized gravity g(q).
+    compute_generalized_gravity => cm::generalized_gravity, column -> PyArray1<f64>
+}
+of_configuration! {
+    /// Joint-space inertia matrix M(q) (CRBA), both triangles filled (Pinocchio fills the upper).
+    crba => cm::crba, matrix -> PyArray2<f64>
+}
+of_configuration! {
+    /// M(q)⁻¹ by the O(n²) recursion, both triangles filled.
+    compute_minverse => cm::compute_minverse, matrix -> PyArray2<f64>
+}
+of_configuration! {
+    /// Joint Jacobians in the world frame at q (6 × nv, `data.J`).
+    compute_joint_jacobians => cm::compute_joint_jacobians, matrix -> PyArray2<f64>
+}
+of_configuration! {
+    /// CoM Jacobian (3 × nv, world axes); also sets `data.com`.
+    jacobian_center_of_mass => cm::jacobian_center_of_mass, matrix -> PyArray2<f64>
+}
+of_configuration! {
+    /// Centroidal momentum matrix A_G (6 × nv, [linear; angular] about the CoM, world axes;
+    /// Pinocchio's `computeCentroidalMap`).
+    centroidal_map => cm::compute_centroidal_map, matrix -> PyArray2<f64>
 }
 
 /// Forward dynamics a = M⁻¹(τ − h) (ABA; rad/s², m/s²).
@@ -154,20 +163,6 @@ pub fn frame_placement(
     let id = frame.id(&model.inner)?;
     let m = cm::frame_placement(&model.inner, &data.inner, id).map_err(model_error)?;
     Ok(PySe3 { inner: m })
-}
-
-/// Joint Jacobians in the world frame at q (6 × nv, `data.J`).
-#[pyfunction]
-pub fn compute_joint_jacobians<'py>(
-    py: Python<'py>,
-    model: &PyModel,
-    mut data: PyRefMut<'_, PyData>,
-    q: VectorArg<'_>,
-) -> MatrixOut<'py> {
-    data.check(model)?;
-    let j = cm::compute_joint_jacobians(&model.inner, &mut data.inner, &slice(&q))
-        .map_err(model_error)?;
-    Ok(matrix(py, j))
 }
 
 /// The Jacobian of `frame` (id or name) at q in `reference_frame` (6 × nv, [linear; angular]).
@@ -262,35 +257,6 @@ pub fn center_of_mass<'py>(
     )
     .map_err(model_error)?;
     Ok(vector(py, c.as_slice()))
-}
-
-/// CoM Jacobian (3 × nv, world axes); also sets `data.com`.
-#[pyfunction]
-pub fn jacobian_center_of_mass<'py>(
-    py: Python<'py>,
-    model: &PyModel,
-    mut data: PyRefMut<'_, PyData>,
-    q: VectorArg<'_>,
-) -> MatrixOut<'py> {
-    data.check(model)?;
-    let j = cm::jacobian_center_of_mass(&model.inner, &mut data.inner, &slice(&q))
-        .map_err(model_error)?;
-    Ok(matrix(py, j))
-}
-
-/// Centroidal momentum matrix A_G (6 × nv, [linear; angular] about the CoM, world axes;
-/// Pinocchio's `computeCentroidalMap`).
-#[pyfunction]
-pub fn centroidal_map<'py>(
-    py: Python<'py>,
-    model: &PyModel,
-    mut data: PyRefMut<'_, PyData>,
-    q: VectorArg<'_>,
-) -> MatrixOut<'py> {
-    data.check(model)?;
-    let ag = cm::compute_centroidal_map(&model.inner, &mut data.inner, &slice(&q))
-        .map_err(model_error)?;
-    Ok(matrix(py, ag))
 }
 
 /// Centroidal momentum h_G = A_G v ([linear (kg·m/s); angular (kg·m²/s)] about the CoM).

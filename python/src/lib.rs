@@ -8,6 +8,7 @@ mod errors;
 mod model;
 mod plant;
 mod run;
+mod tree;
 
 use pyo3::prelude::*;
 

@@ -9,6 +9,7 @@ use corps_model::{Data, Model, ReferenceFrame, RootJoint};
 use nalgebra::{Matrix3, Vector3};
 use numpy::{PyArray1, PyArray2, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use rand::SeedableRng;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -147,6 +148,26 @@ impl PyModel {
     fn frame_parent_joint(&self, frame: FrameRef) -> PyResult<Option<usize>> {
         let id = frame.id(&self.inner)?;
         Ok(self.inner.frames[id].parent_joint)
+    }
+    /// One dict per moving joint and the body it moves (fixed children merged), parents
+    /// first: `name`, `parent` (index, None at the root), `kind` (`free`, `revolute`,
+    /// `continuous`, `prismatic`), `axis` (unit, joint frame), `placement` (4 × 4, in the
+    /// parent joint's frame), `idx_q`, `idx_v`, `mass` (kg), `com` (m, joint frame), `inertia`
+    /// (3 × 3 about the CoM, kg·m², joint frame), `effort` (N·m or N; None at the root).
+    fn bodies<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        crate::tree::bodies(self, py)
+    }
+    /// One dict per collision primitive (meshes left out, as corps' simulator does): `link`,
+    /// `joint` (the moving joint carrying it; None if fixed to the world), `placement` (4 × 4
+    /// in that joint's frame), `shape` (`box` with `size`, full side lengths; `cylinder` with
+    /// `radius` and `length` along local z; `sphere` with `radius`).
+    fn collisions<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+        crate::tree::collisions(self, py)
+    }
+    /// Where `frame` (id or name) is attached: the moving joint carrying it (None if fixed to
+    /// the world) and its placement in that joint's frame.
+    fn frame_attachment(&self, frame: FrameRef) -> PyResult<(Option<usize>, PySe3)> {
+        crate::tree::frame_attachment(self, frame)
     }
     /// Id of the moving joint named `name` (0-based, no universe).
     fn get_joint_id(&self, name: &str) -> PyResult<usize> {

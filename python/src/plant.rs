@@ -5,7 +5,7 @@
 use crate::arrays::vector;
 use crate::errors::PlantError as PyPlantError;
 use corps_loop::{Command, ContactForce, PlantError};
-use corps_sim::{PlantState, StatePlant};
+use corps_sim::{PlantState, Push, StatePlant};
 use nalgebra::{DVector, Vector3};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
@@ -119,6 +119,31 @@ impl StatePlant for PythonPlant {
             self.object.call_method1(py, "step", (c,)).map(|_| ())
         })
         .map_err(|e| self.failed("step", e))
+    }
+
+    fn push(&mut self, push: &Push) -> Result<(), PlantError> {
+        let has = Python::attach(|py| self.object.bind(py).hasattr("push"))
+            .map_err(|e| self.failed("push", e))?;
+        if !has {
+            return Err(self.protocol(
+                "push",
+                format!(
+                    "the scenario pushes '{}' and the plant has no push() method",
+                    push.frame
+                ),
+            ));
+        }
+        Python::attach(|py| {
+            let args = (
+                push.frame.clone(),
+                push.start,
+                push.duration,
+                vector(py, &push.force),
+                vector(py, &push.torque),
+            );
+            self.object.call_method1(py, "push", args).map(|_| ())
+        })
+        .map_err(|e| self.failed("push", e))
     }
 
     fn state(&mut self, out: &mut PlantState) -> Result<(), PlantError> {

@@ -37,6 +37,22 @@ def test_every_public_name_has_a_stub():
             assert f"\n{name}:" in stub_text, f"constant {name} has no stub"
     for name in list(functions) + list(classes):
         assert hasattr(native, name), f"stub {name} names nothing in the module"
+    for cls, methods in classes.items():
+        stubbed = set(methods) | set(re_properties(cls))
+        runtime = getattr(native, cls)
+        inherited = set(dir(Exception)) | set(dir(object))
+        for attr in dir(runtime):
+            if not attr.startswith("_") and attr not in inherited:
+                assert attr in stubbed, f"{cls}.{attr} has no stub"
+
+
+def re_properties(cls):
+    """Names a class stub declares as attributes (`name: type`) or properties."""
+    tree = ast.parse(STUBS.read_text())
+    node = next(n for n in tree.body if isinstance(n, ast.ClassDef) and n.name == cls)
+    names = [n.target.id for n in node.body if isinstance(n, ast.AnnAssign)]
+    names += [n.targets[0].id for n in node.body if isinstance(n, ast.Assign)]
+    return names
 
 
 def test_stub_parameters_match():

@@ -89,6 +89,7 @@ out=$(mktemp -d)
   cat tools/results/human_prediction.md
   bash tools/results/actuators.sh ./target/release/corps
   bash tools/results/icub_stepping.sh ./target/release/corps
+  bash tools/results/crossval.sh
   cat tools/results/joint_limits.md
   cat tools/results/bad_input.md
 } > RESULTS.md.partial

@@ -4,10 +4,11 @@
 //! of readings whatever computes the physics.
 //!
 //! The sensors need the bodies' accelerations (the IMU, an F/T sensor's inertial part): they
-//! come from ABA at the reported state with the reported contact forces, `q̈ = ABA(q, v, τ,
-//! f_c)`, which is what the plant's own physics integrates up to its contact model.
+//! come from ABA at the reported state with the reported contact forces and the pushes
+//! active, `q̈ = ABA(q, v, τ, f_c + f_push)`, which is what the plant's own physics integrates
+//! up to its contact model.
 
-use crate::Sensors;
+use crate::{Push, Sensors};
 use corps_loop::{Command, ContactForce, Plant, PlantError, Sensed, Truth};
 use corps_model::spatial::Force;
 use corps_model::{aba_with_external_forces, com_at_placements, Data, Model};
@@ -54,6 +55,14 @@ pub trait StatePlant: Send {
     fn step(&mut self, command: &Command) -> Result<(), PlantError>;
     /// Writes the current true state into `out` (sized by [`PlantState::zeros`]).
     fn state(&mut self, out: &mut PlantState) -> Result<(), PlantError>;
+    /// Schedules `push` (times on the plant's clock). A plant that cannot push the robot
+    /// refuses it, and a scenario with pushes does not run on it.
+    fn push(&mut self, push: &Push) -> Result<(), PlantError> {
+        Err(PlantError::Failed(format!(
+            "the scenario pushes '{}' and this plant takes no pushes",
+            push.frame
+        )))
+    }
 }
 
 impl<P: StatePlant + ?Sized> StatePlant for Box<P> {
@@ -66,6 +75,9 @@ impl<P: StatePlant + ?Sized> StatePlant for Box<P> {
     fn state(&mut self, out: &mut PlantState) -> Result<(), PlantError> {
         (**self).state(out)
     }
+    fn push(&mut self, push: &Push) -> Result<(), PlantError> {
+        (**self).push(push)
+    }
 }
 
 /// A [`StatePlant`] with corps' sensors on it: a loop [`Plant`].
@@ -75,22 +87,41 @@ pub struct ExternalPlant<P: StatePlant> {
     data: Data,
     sensors: Sensors,
     state: PlantState,
+    /// Contact wrench on each joint's body (world, about the origin): what F/T sensors read.
     wrenches: Vec<Force>,
+    /// The pushes given to the plant, with the joint and placement of their frame: they act
+    /// in the accelerations the IMU and the F/T sensors' inertial part read.
+    pushes: Vec<(Push, usize, corps_model::spatial::Se3)>,
     /// The state and the sensors are read since the last step.
     fresh: bool,
 }
 
 impl<P: StatePlant> ExternalPlant<P> {
-    /// `plant` read through `sensors`, started at (`q`, `v`, `t`) with control period `dt`.
-    pub fn new(
+    /// `plant` read through `sensors`, started at (`q`, `v`, `t`) with control period `dt`,
+    /// and given `pushes`.
+    pub fn new<'a>(
         mut plant: P,
         model: Arc<Model>,
         sensors: Sensors,
         (q, v, t): (&[f64], &[f64], f64),
         dt: f64,
+        pushes: impl IntoIterator<Item = &'a Push>,
     ) -> Result<Self, PlantError> {
         plant.reset(q, v, t, dt)?;
+        let mut placed = Vec::new();
+        for push in pushes {
+            plant.push(push)?;
+            let frame = model
+                .frame_id(&push.frame)
+                .map(|f| &model.frames[f])
+                .map_err(|e| PlantError::Failed(format!("push: {e}")))?;
+            let joint = frame.parent_joint.ok_or_else(|| {
+                PlantError::Failed(format!("push on '{}': fixed to the world", push.frame))
+            })?;
+            placed.push((push.clone(), joint, frame.placement));
+        }
         Ok(Self {
+            pushes: placed,
             data: Data::new(&model),
             state: PlantState::zeros(&model),
             wrenches: vec![Force::zero(); model.njoints()],
@@ -144,10 +175,15 @@ impl<P: StatePlant> ExternalPlant<P> {
             };
             *w += Force::new(c.force, c.position.cross(&c.force));
         }
-        let wrenches = &self.wrenches;
+        let (wrenches, pushes, time) = (&self.wrenches, &self.pushes, s.time);
         let (q, v, tau) = (s.q.as_slice(), s.v.as_slice(), s.applied_torques.as_slice());
-        aba_with_external_forces(model, &mut self.data, q, v, tau, |_, _, f| {
-            f.copy_from_slice(wrenches)
+        aba_with_external_forces(model, &mut self.data, q, v, tau, |o_m_i, _, f| {
+            f.copy_from_slice(wrenches);
+            for (push, joint, placement) in pushes {
+                if push.active(time) {
+                    f[*joint] += push.world_wrench(&o_m_i[*joint], placement);
+                }
+            }
         })
         .map_err(|e| bad(&e.to_string()))?;
         let input = crate::SensorInput {

@@ -231,6 +231,11 @@ impl Simulator {
         Ok(sim)
     }
 
+    /// The pushes added, in the order they were added.
+    pub fn pushes(&self) -> impl Iterator<Item = &Push> {
+        self.pushes.iter().map(|(p, _, _)| p)
+    }
+
     /// Adds a push on the body of frame `push.frame`.
     pub fn add_push(&mut self, push: Push) -> Result<()> {
         let fid = self.model.frame_id(&push.frame)?;

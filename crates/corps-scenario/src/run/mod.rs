@@ -338,8 +338,9 @@ impl ScenarioRun {
 
     /// Runs on `plant` instead of corps' simulator: the plant starts from the settled state
     /// (the simulator's, after `[controller] settle`) and is read through the scenario's
-    /// sensors, with their noise. Pushes, terrain changes and the simulator's settings are
-    /// the simulator's own and do not carry over.
+    /// sensors, with their noise, and is given the scenario's pushes
+    /// ([`StatePlant::push`]). Terrain changes and the simulator's settings are the
+    /// simulator's own and do not carry over.
     pub fn with_plant(mut self, plant: Box<dyn StatePlant>) -> Result<Self> {
         let ClosedLoop {
             plant: current_plant,
@@ -354,7 +355,8 @@ impl ScenarioRun {
         let (sim, sensors) = sim.into_parts()?;
         let model = sim.model().clone();
         let start = (sim.q().as_slice(), sim.v().as_slice(), sim.time());
-        let external = ExternalPlant::new(plant, model, sensors, start, self.settings.dt)?;
+        let external =
+            ExternalPlant::new(plant, model, sensors, start, self.settings.dt, sim.pushes())?;
         self.closed_loop = ClosedLoop {
             plant: RunPlant::External(external),
             estimator,

@@ -7,7 +7,8 @@ mod summary;
 
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
-use corps_scenario::scenario::{self, Scenario};
+use corps_scenario::overrides::Overrides;
+use corps_scenario::scenario::Scenario;
 use corps_scenario::simulation::Simulation;
 use corps_scenario::ScenarioError;
 use std::path::{Path, PathBuf};
@@ -40,22 +41,15 @@ pub fn run(args: SimArgs) -> Result<()> {
     let path = &args.scenario;
     let shown = path.display();
     let text = read_scenario(path)?;
-    let mut scenario = Scenario::parse(&text).map_err(|e| anyhow!("{shown}: {e}"))?;
+    let overrides = Overrides {
+        duration: args.duration,
+        max_log_mb: args.max_log_mb,
+        robot: args.robot.clone(),
+        ..Overrides::default()
+    };
+    let scenario = Scenario::parse_with(&text, path, &overrides).map_err(|e| anyhow!(e))?;
     if scenario.controller.is_some() {
         bail!("{shown}: this scenario has a [controller]: run it with `corps run`");
-    }
-    if let Some(d) = args.duration {
-        scenario = scenario
-            .with_duration(d)
-            .map_err(|e| anyhow!("{shown}: {e}"))?;
-    }
-    if let Some(mb) = args.max_log_mb {
-        scenario = scenario
-            .with_max_log_mb(mb)
-            .map_err(|e| anyhow!("{shown}: {e}"))?;
-    }
-    if let Some(robot) = &args.robot {
-        scenario.robot = scenario::RobotSection::from_argument(robot);
     }
     let base_dir = path.parent().unwrap_or(Path::new("."));
     let simulation = Simulation::new(&scenario, base_dir).map_err(|e| anyhow!("{shown}: {e:#}"))?;
