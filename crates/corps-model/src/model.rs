@@ -43,6 +43,9 @@ pub struct Model {
     pub reference_configurations: Vec<(String, DVector<f64>)>,
     /// Collision shapes (for the simulator).
     pub collisions: Vec<CollisionGeometry>,
+    /// Visual shapes (meshes by the file name the URDF gives), placed as the collisions are:
+    /// for viewers; no algorithm reads them.
+    pub visuals: Vec<CollisionGeometry>,
     /// Number of velocity entries in the subtree of each joint (itself included).
     pub subtree_nv: Vec<usize>,
     /// For each velocity index, the velocity index of its parent in the tree (for the

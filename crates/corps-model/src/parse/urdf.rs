@@ -27,6 +27,7 @@ pub enum RootJoint {
 struct UrdfLink {
     inertia: Option<Inertia>,
     collisions: Vec<(Se3, Shape)>,
+    visuals: Vec<(Se3, Shape)>,
 }
 
 struct UrdfJoint {
@@ -136,19 +137,23 @@ fn parse_link(l: &roxmltree::Node, name: &str) -> Result<UrdfLink> {
         None => None,
         Some(i) => Some(parse_inertial(&i, name, &ctx)?),
     };
-    let mut collisions = Vec::new();
-    for c in children(l, "collision") {
-        let placement = origin(&c, &ctx)?;
-        let Some(g) = child(&c, "geometry") else {
-            continue;
-        };
-        if let Some(shape) = parse_shape(&g, &ctx)? {
-            collisions.push((placement, shape));
+    let shapes = |tag: &str| -> Result<Vec<(Se3, Shape)>> {
+        let mut out = Vec::new();
+        for c in children(l, tag) {
+            let placement = origin(&c, &ctx)?;
+            let Some(g) = child(&c, "geometry") else {
+                continue;
+            };
+            if let Some(shape) = parse_shape(&g, &ctx)? {
+                out.push((placement, shape));
+            }
         }
-    }
+        Ok(out)
+    };
     Ok(UrdfLink {
         inertia,
-        collisions,
+        collisions: shapes("collision")?,
+        visuals: shapes("visual")?,
     })
 }
 
@@ -319,6 +324,7 @@ struct TreeBuilder<'a> {
     inertias: Vec<Inertia>,
     frames: Vec<Frame>,
     collisions: Vec<CollisionGeometry>,
+    visuals: Vec<CollisionGeometry>,
     limits: Limits,
     nq: usize,
     nv: usize,
@@ -338,6 +344,7 @@ impl<'a> TreeBuilder<'a> {
                 placement: Se3::identity(),
             }],
             collisions: Vec::new(),
+            visuals: Vec::new(),
             limits: Limits {
                 lower: Vec::new(),
                 upper: Vec::new(),
@@ -378,7 +385,7 @@ impl<'a> TreeBuilder<'a> {
     }
 
     /// Attaches a link to joint `parent` at `placement` (in the joint frame): its BODY frame,
-    /// inertia and collision shapes.
+    /// inertia, collision and visual shapes.
     fn attach_link(&mut self, link: &str, parent: Option<usize>, placement: Se3) {
         self.frames.push(Frame {
             name: link.to_string(),
@@ -390,13 +397,18 @@ impl<'a> TreeBuilder<'a> {
         if let (Some(j), Some(i)) = (parent, data.inertia) {
             self.inertias[j] += i.transformed(&placement);
         }
-        for (o, shape) in &data.collisions {
-            self.collisions.push(CollisionGeometry {
-                link: link.to_string(),
-                parent_joint: parent,
-                placement: placement * *o,
-                shape: shape.clone(),
-            });
+        for (shapes, out) in [
+            (&data.collisions, &mut self.collisions),
+            (&data.visuals, &mut self.visuals),
+        ] {
+            for (o, shape) in shapes {
+                out.push(CollisionGeometry {
+                    link: link.to_string(),
+                    parent_joint: parent,
+                    placement: placement * *o,
+                    shape: shape.clone(),
+                });
+            }
         }
     }
 
@@ -592,6 +604,7 @@ impl<'a> TreeBuilder<'a> {
             gravity: Vector3::new(0.0, 0.0, -crate::STANDARD_GRAVITY),
             reference_configurations: Vec::new(),
             collisions: self.collisions,
+            visuals: self.visuals,
             subtree_nv,
             dof_parent,
             dof_joint,

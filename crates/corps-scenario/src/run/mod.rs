@@ -27,7 +27,7 @@ use crate::setup::{self, Setup};
 use crate::{dynamic_filter, ScenarioError};
 use corps_estimation::KinematicEstimator;
 use corps_loop::verdict::VerdictObserver;
-use corps_loop::{ClosedLoop, LoopEnd, LoopSettings};
+use corps_loop::{ClosedLoop, LoopEnd, LoopSettings, Truth};
 use corps_model::STANDARD_GRAVITY as GRAVITY;
 use corps_model::{com_at_placements, frame_placement};
 use corps_sim::{ExternalPlant, Overlap, SimulatedRobot, StatePlant};
@@ -41,6 +41,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 pub trait RowSink: Send {
     /// Row `index` (one per control tick). An error stops the run and is returned by it.
     fn row(&mut self, index: usize, row: &[f64]) -> Result<(), ScenarioError>;
+    /// The plant's true state at the same tick (a viewer's recording draws the robot from
+    /// it); called right after [`RowSink::row`]. Nothing by default.
+    fn state(&mut self, _index: usize, _truth: &Truth) -> Result<(), ScenarioError> {
+        Ok(())
+    }
 }
 
 /// How a run executes.
@@ -86,6 +91,8 @@ pub struct ScenarioRun {
     /// The dynamic filter's figures, for a filtered walk.
     dynamic_filter: Option<DynamicFilterMetrics>,
     interrupt: Option<&'static AtomicBool>,
+    /// Each foot's sole frame and rectangle corners (left, right), for viewers.
+    soles: [(usize, [Vector3<f64>; 4]); 2],
 }
 
 impl ScenarioRun {
@@ -127,6 +134,7 @@ impl ScenarioRun {
         )
         .context("controller.gains")?;
         let soles = controller::two_feet(&robot)?;
+        let sole_rectangles = soles.map(|f| (f.frame, f.corners));
         let dt = scenario.sim.control_dt;
         let settle_ticks = (section.settle / dt).round() as usize;
         for _ in 0..settle_ticks {
@@ -333,6 +341,7 @@ impl ScenarioRun {
             mass,
             dynamic_filter,
             interrupt: options.interrupt,
+            soles: sole_rectangles,
         })
     }
 
@@ -367,6 +376,16 @@ impl ScenarioRun {
         Ok(self)
     }
 
+    /// The robot's model (the one the run simulates and controls).
+    pub fn model(&self) -> &std::sync::Arc<corps_model::Model> {
+        &self.recorder.model
+    }
+
+    /// Each foot's sole frame and its rectangle's corners in that frame (left, right).
+    pub fn soles(&self) -> &[(usize, [Vector3<f64>; 4]); 2] {
+        &self.soles
+    }
+
     /// The time series' columns.
     pub fn columns(&self) -> &[String] {
         &self.columns
@@ -397,6 +416,7 @@ impl ScenarioRun {
             mass,
             dynamic_filter,
             interrupt,
+            soles: _,
         } = self;
         let dt = settings.dt;
         let base0 = recorder.base0;

@@ -172,7 +172,10 @@ impl Observer<ScenarioController> for Recorder<'_, '_> {
         tick.controller.push_channels(&mut self.row);
         self.series.push(&self.row);
         for sink in self.sinks.iter_mut() {
-            if let Err(e) = sink.row(tick.index, &self.row) {
+            let done = sink
+                .row(tick.index, &self.row)
+                .and_then(|()| sink.state(tick.index, truth));
+            if let Err(e) = done {
                 self.sink_error = Some(e);
                 return Flow::Stop;
             }

@@ -3,6 +3,7 @@
 
 mod csv_log;
 mod dir_lock;
+pub mod recording;
 
 pub use csv_log::{check_size, estimated_size, megabytes, CsvLog, LOG_NAME, PARTIAL_LOG_NAME};
 pub use dir_lock::DirLock;

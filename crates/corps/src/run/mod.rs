@@ -31,6 +31,7 @@ pub use corps_scenario::sensor_profile::SensorProfile;
 pub use corps_sim::Overlap;
 
 use crate::output;
+use crate::output::recording::{Recording, RecordingScene};
 use crate::progress::Progress;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
@@ -76,6 +77,10 @@ pub struct RunArgs {
     /// description file (`robots/*/*.toml`).
     #[arg(long, value_name = "ROBOT")]
     robot: Option<String>,
+    /// Also write the run for a 3D viewer: `run.mcap` in the output directory (open it in
+    /// Foxglove, desktop or https://app.foxglove.dev).
+    #[arg(long)]
+    record: bool,
 }
 
 /// `--estimator` values.
@@ -118,6 +123,8 @@ pub struct RunOptions {
     pub noise: Option<SensorProfile>,
     /// Replaces the scenario's robot (`--robot`).
     pub robot: Option<String>,
+    /// Writes `run.mcap` for a 3D viewer (`--record`).
+    pub record: bool,
     /// Raised to stop the run at the next tick: it then writes what it has, marked
     /// interrupted (the command's Ctrl-C, [`crate::interrupt`]).
     pub interrupt: Option<&'static AtomicBool>,
@@ -133,6 +140,7 @@ impl RunOptions {
             estimator: None,
             noise: None,
             robot: None,
+            record: false,
             interrupt: None,
         }
     }
@@ -152,6 +160,7 @@ impl RunOptions {
             estimator: None,
             noise: None,
             robot: None,
+            record: false,
             interrupt: Some(&crate::interrupt::FLAG),
         }
     }
@@ -164,6 +173,7 @@ pub fn run(args: RunArgs) -> Result<()> {
     options.estimator = args.estimator.map(EstimatorKind::from);
     options.noise = args.noise.as_deref().map(SensorProfile::read).transpose()?;
     options.robot = args.robot;
+    options.record = args.record;
     match (args.serial, args.overlap) {
         (true, _) | (_, Some(OverlapArg::Never)) => options.overlap = Overlap::Never,
         (_, Some(OverlapArg::Always)) => options.overlap = Overlap::Always,
@@ -338,9 +348,24 @@ pub fn run_scenario(
         every: log_every,
         progress: Progress::new(run.ticks(), run.dt(), options.progress),
     };
-    let result = run
-        .run(&mut [&mut sink])
-        .map_err(|e| command_error(e, dir))?;
+    let mut recording = match options.record {
+        true => Some(Recording::create(
+            dir,
+            RecordingScene {
+                model: run.model().clone(),
+                feet: run.soles().to_vec(),
+            },
+            &header,
+            run.dt(),
+            log_every,
+        )?),
+        false => None,
+    };
+    let result = match &mut recording {
+        Some(rec) => run.run(&mut [&mut sink, rec]),
+        None => run.run(&mut [&mut sink]),
+    }
+    .map_err(|e| command_error(e, dir))?;
     sink.progress.finish();
     let mut m = result.metrics;
     if let Some(profile) = &options.noise {
@@ -355,6 +380,9 @@ pub fn run_scenario(
             serde_json::to_string_pretty(&m)?.as_bytes(),
         )?,
     ];
+    if let Some(rec) = recording {
+        files.push(rec.finish()?);
+    }
     if scenario.output.plots {
         files.extend(plots::write(dir, &result.series, &header, &m.scenario)?);
     }

@@ -1,0 +1,458 @@
+//! `corps run … --record`: the run as an MCAP file (`run.mcap`) that Foxglove opens, in its
+//! desktop app or in a browser: the robot in 3D (the URDF's visual meshes, or its collision
+//! primitives where a mesh file is not found), moving with the true state; the CoM and its
+//! reference, the ZMP and its reference, the support polygon of the feet in contact, the
+//! contact forces as arrows and the footprints where each foot landed; and every column of
+//! the log as signals to plot, all on one time line (controlled time).
+//!
+//! Topics: `/tf` (`foxglove.FrameTransforms`, world → each joint frame), `/robot`
+//! (`foxglove.SceneUpdate`, the robot's shapes, locked to the joint frames, written once),
+//! `/markers` (`foxglove.SceneUpdate` in the world frame), `/signals` (`corps.Signals`). 3D
+//! topics are written every `VIEW_PERIOD` of controlled time, signals with the log.
+
+mod meshes;
+mod schemas;
+
+use anyhow::{anyhow, Context, Result};
+use base64::Engine;
+use corps_loop::Truth;
+use corps_model::spatial::Se3;
+use corps_model::{Model, Shape};
+use corps_scenario::run::RowSink;
+use corps_scenario::ScenarioError;
+use nalgebra::{Matrix3, UnitQuaternion, Vector3};
+use serde_json::{json, Value};
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::BufWriter;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// The recording's file name in the output directory.
+pub const RECORDING_NAME: &str = "run.mcap";
+/// Period of the 3D topics (s of controlled time): 50 frames a second.
+const VIEW_PERIOD: f64 = 0.02;
+/// A foot carries the robot above this normal force (N): it is in the support polygon.
+const SUPPORT_FORCE: f64 = 20.0;
+/// Arrow length per newton of contact force (m/N).
+const ARROW_SCALE: f64 = 1e-3;
+
+/// What a recording needs of the robot.
+pub struct RecordingScene {
+    pub model: Arc<Model>,
+    /// Each foot's sole frame and its rectangle's corners in that frame.
+    pub feet: Vec<(usize, [Vector3<f64>; 4])>,
+}
+
+/// Streams a run into `run.mcap.partial`, renamed to `run.mcap` when it finishes.
+pub struct Recording {
+    writer: mcap::Writer<BufWriter<File>>,
+    partial: PathBuf,
+    target: PathBuf,
+    channels: Channels,
+    scene: RecordingScene,
+    columns: Vec<String>,
+    /// Indices of the columns the markers read.
+    at: Columns,
+    row: Vec<f64>,
+    every_view: usize,
+    every_log: usize,
+    sequence: u32,
+    /// Whether each foot carried the robot at the last view (a new touchdown leaves a print).
+    touching: Vec<bool>,
+    footprints: Vec<Value>,
+    footprints_written: usize,
+    /// How many visual shapes were drawn from meshes and from collision primitives.
+    pub drawn: (usize, usize),
+}
+
+struct Channels {
+    tf: u16,
+    robot: u16,
+    markers: u16,
+    signals: u16,
+}
+
+struct Columns {
+    t: usize,
+    com: [usize; 3],
+    com_ref: [usize; 3],
+    zmp: [usize; 2],
+    zmp_ref: [usize; 2],
+    foot_fz: Vec<usize>,
+}
+
+fn column(columns: &[String], name: &str) -> Result<usize> {
+    columns
+        .iter()
+        .position(|c| c == name)
+        .ok_or_else(|| anyhow!("the log has no column '{name}' to record"))
+}
+
+impl Recording {
+    /// Starts the recording in `dir` for a run with `columns` logged every `log_every` ticks
+    /// of `dt` seconds.
+    pub fn create(
+        dir: &Path,
+        scene: RecordingScene,
+        columns: &[String],
+        dt: f64,
+        log_every: usize,
+    ) -> Result<Self> {
+        let partial = dir.join(format!("{RECORDING_NAME}.partial"));
+        let file =
+            File::create(&partial).with_context(|| format!("creating {}", partial.display()))?;
+        let mut writer = mcap::Writer::new(BufWriter::new(file))?;
+        let no_metadata = BTreeMap::new();
+        let mut channel = |topic: &str, name: &str, schema: &str| -> Result<u16> {
+            let id = writer.add_schema(name, "jsonschema", schema.as_bytes())?;
+            Ok(writer.add_channel(id, topic, "json", &no_metadata)?)
+        };
+        let channels = Channels {
+            tf: channel("/tf", "foxglove.FrameTransforms", schemas::FRAME_TRANSFORMS)?,
+            robot: channel("/robot", "foxglove.SceneUpdate", schemas::SCENE_UPDATE)?,
+            markers: channel("/markers", "foxglove.SceneUpdate", schemas::SCENE_UPDATE)?,
+            signals: channel("/signals", "corps.Signals", schemas::SIGNALS)?,
+        };
+        let c = |n: &str| column(columns, n);
+        let at = Columns {
+            t: c("t")?,
+            com: [c("com_x")?, c("com_y")?, c("com_z")?],
+            com_ref: [c("com_ref_x")?, c("com_ref_y")?, c("com_ref_z")?],
+            zmp: [c("zmp_x")?, c("zmp_y")?],
+            zmp_ref: [c("zmp_ref_x")?, c("zmp_ref_y")?],
+            foot_fz: vec![c("left_foot_fz")?, c("right_foot_fz")?],
+        };
+        let feet = scene.feet.len();
+        let mut recording = Self {
+            writer,
+            target: dir.join(RECORDING_NAME),
+            partial,
+            channels,
+            scene,
+            columns: columns.to_vec(),
+            at,
+            row: vec![0.0; columns.len()],
+            every_view: ((VIEW_PERIOD / dt).round() as usize).max(1),
+            every_log: log_every.max(1),
+            sequence: 0,
+            touching: vec![false; feet],
+            footprints: Vec::new(),
+            footprints_written: 0,
+            drawn: (0, 0),
+        };
+        recording.write_robot()?;
+        Ok(recording)
+    }
+
+    fn write(&mut self, channel: u16, t: f64, message: &Value) -> Result<()> {
+        let time = (t.max(0.0) * 1e9).round() as u64;
+        let header = mcap::records::MessageHeader {
+            channel_id: channel,
+            sequence: self.sequence,
+            log_time: time,
+            publish_time: time,
+        };
+        self.sequence = self.sequence.wrapping_add(1);
+        let bytes = serde_json::to_vec(message)?;
+        self.writer.write_to_known_channel(&header, &bytes)?;
+        Ok(())
+    }
+
+    /// The robot's shapes, each locked to its joint's frame, once for the whole run.
+    fn write_robot(&mut self) -> Result<()> {
+        let dirs = meshes::search_path();
+        let model = self.scene.model.clone();
+        let mut entities = Vec::new();
+        let mut drawn_from_meshes = std::collections::HashSet::new();
+        for (k, v) in model.visuals.iter().enumerate() {
+            let (Some(joint), Shape::Mesh { filename, scale }) = (v.parent_joint, &v.shape) else {
+                continue;
+            };
+            let Some(path) = meshes::resolve(filename, &dirs) else {
+                continue;
+            };
+            let Some(media) = meshes::media_type(&path) else {
+                continue;
+            };
+            let bytes = std::fs::read(&path)
+                .with_context(|| format!("reading the mesh {}", path.display()))?;
+            drawn_from_meshes.insert(v.link.clone());
+            entities.push(json!({
+                "timestamp": stamp(0.0), "frame_id": joint_frame(&model, joint),
+                "id": format!("visual/{k}"), "lifetime": stamp(0.0), "frame_locked": true,
+                "metadata": [],
+                "models": [{
+                    "pose": pose(&v.placement), "scale": vec3(scale),
+                    "color": color(0.75, 0.75, 0.78, 1.0), "override_color": false,
+                    "url": "", "media_type": media,
+                    "data": base64::engine::general_purpose::STANDARD.encode(bytes),
+                }],
+            }));
+            self.drawn.0 += 1;
+        }
+        // Links without a mesh found: their collision primitives.
+        for (k, c) in model.collisions.iter().enumerate() {
+            let Some(joint) = c.parent_joint else {
+                continue;
+            };
+            if drawn_from_meshes.contains(&c.link) {
+                continue;
+            }
+            let grey = color(0.55, 0.6, 0.65, 1.0);
+            let p = pose(&c.placement);
+            let (key, primitive) = match &c.shape {
+                Shape::Box { size } => (
+                    "cubes",
+                    json!({"pose": p, "size": vec3(size), "color": grey}),
+                ),
+                Shape::Sphere { radius } => (
+                    "spheres",
+                    json!({"pose": p, "size": vec3(&Vector3::repeat(2.0 * radius)), "color": grey}),
+                ),
+                Shape::Cylinder { radius, length } => (
+                    "cylinders",
+                    json!({"pose": p, "size": vec3(&Vector3::new(2.0 * radius, 2.0 * radius, *length)),
+                           "bottom_scale": 1.0, "top_scale": 1.0, "color": grey}),
+                ),
+                Shape::Mesh { .. } => continue,
+            };
+            let mut entity = json!({
+                "timestamp": stamp(0.0), "frame_id": joint_frame(&model, joint),
+                "id": format!("collision/{k}"), "lifetime": stamp(0.0), "frame_locked": true,
+                "metadata": [],
+            });
+            entity[key] = json!([primitive]);
+            entities.push(entity);
+            self.drawn.1 += 1;
+        }
+        let channel = self.channels.robot;
+        self.write(
+            channel,
+            0.0,
+            &json!({"deletions": [], "entities": entities}),
+        )
+    }
+
+    /// The joint frames (world → joint) at the true state.
+    fn write_transforms(&mut self, t: f64, truth: &Truth) -> Result<()> {
+        let model = self.scene.model.clone();
+        let transforms: Vec<Value> = (truth.joint_placements.iter().enumerate())
+            .map(|(i, m)| {
+                let p = pose(m);
+                json!({
+                    "timestamp": stamp(t), "parent_frame_id": "world",
+                    "child_frame_id": joint_frame(&model, i),
+                    "translation": p["position"], "rotation": p["orientation"],
+                })
+            })
+            .collect();
+        let channel = self.channels.tf;
+        self.write(channel, t, &json!({"transforms": transforms}))
+    }
+
+    /// CoM, ZMP, support polygon, contact forces and footprints, in the world frame.
+    fn write_markers(&mut self, t: f64, truth: &Truth) -> Result<()> {
+        let r = &self.row;
+        let point =
+            |ix: &[usize]| Vector3::new(r[ix[0]], r[ix[1]], ix.get(2).map_or(0.0, |&k| r[k]));
+        let sphere = |at: Vector3<f64>, size: f64, c: Value| json!({"pose": pose(&Se3::new(Matrix3::identity(), at)), "size": vec3(&Vector3::repeat(size)), "color": c});
+        let spheres = vec![
+            sphere(point(&self.at.com), 0.05, color(0.9, 0.2, 0.2, 1.0)),
+            sphere(point(&self.at.com_ref), 0.035, color(0.2, 0.8, 0.3, 0.8)),
+            sphere(point(&self.at.zmp), 0.03, color(0.2, 0.4, 0.95, 1.0)),
+            sphere(point(&self.at.zmp_ref), 0.02, color(0.3, 0.8, 0.9, 0.8)),
+        ];
+        // The CoM's ground projection, to read it against the support polygon.
+        let com = point(&self.at.com);
+        let mut lines = vec![line(
+            &[com, Vector3::new(com.x, com.y, 0.0)],
+            0.005,
+            color(0.9, 0.2, 0.2, 0.6),
+            0,
+        )];
+        let model = self.scene.model.clone();
+        let mut support = Vec::new();
+        for (k, (frame, corners)) in self.scene.feet.iter().enumerate() {
+            let placement = truth.frame_placement(&model, *frame);
+            let world: Vec<Vector3<f64>> = corners.iter().map(|c| placement.act_point(c)).collect();
+            // Corners in the order front-left, front-right, back-right, back-left.
+            let outline = [world[0], world[1], world[3], world[2]];
+            let touching = self
+                .at
+                .foot_fz
+                .get(k)
+                .is_some_and(|&c| r[c] > SUPPORT_FORCE);
+            if touching {
+                support.extend_from_slice(&outline);
+                lines.push(line(&outline, 0.008, color(1.0, 0.75, 0.1, 1.0), 1));
+                if !self.touching[k] {
+                    self.footprints
+                        .push(line(&outline, 0.004, color(0.6, 0.6, 0.6, 0.8), 1));
+                }
+            }
+            self.touching[k] = touching;
+        }
+        if let Some(hull) = convex_hull(&support) {
+            lines.push(line(&hull, 0.006, color(1.0, 0.5, 0.0, 1.0), 1));
+        }
+        let arrows: Vec<Value> = body_forces(truth)
+            .iter()
+            .map(|(at, f)| arrow(at, f))
+            .collect();
+        let entity = |id: &str, key: &str, items: Vec<Value>| {
+            let mut e = json!({"timestamp": stamp(t), "frame_id": "world", "id": id,
+                                "lifetime": stamp(0.0), "frame_locked": false, "metadata": []});
+            e[key] = Value::Array(items);
+            e
+        };
+        let mut entities = vec![
+            entity("points", "spheres", spheres),
+            entity("lines", "lines", lines),
+            entity("forces", "arrows", arrows),
+        ];
+        // Footprints stay until replaced: written again only when a foot lands.
+        if self.footprints.len() != self.footprints_written {
+            entities.push(entity("footprints", "lines", self.footprints.clone()));
+            self.footprints_written = self.footprints.len();
+        }
+        let message = json!({"deletions": [], "entities": entities});
+        let channel = self.channels.markers;
+        self.write(channel, t, &message)
+    }
+
+    /// Writes the summary and renames the file to `run.mcap`.
+    pub fn finish(mut self) -> Result<PathBuf> {
+        self.writer.finish()?;
+        drop(self.writer);
+        std::fs::rename(&self.partial, &self.target)
+            .with_context(|| format!("writing {}", self.target.display()))?;
+        Ok(self.target)
+    }
+}
+
+impl RowSink for Recording {
+    fn row(&mut self, index: usize, row: &[f64]) -> Result<(), ScenarioError> {
+        self.row.copy_from_slice(row);
+        if index.is_multiple_of(self.every_log) {
+            let signals: serde_json::Map<String, Value> = (self.columns.iter())
+                .zip(row)
+                .map(|(c, v)| (c.clone(), json!(v)))
+                .collect();
+            let (t, channel) = (row[self.at.t], self.channels.signals);
+            self.write(channel, t, &Value::Object(signals))
+                .map_err(|e| ScenarioError::Output(format!("{RECORDING_NAME}: {e:#}")))?;
+        }
+        Ok(())
+    }
+
+    fn state(&mut self, index: usize, truth: &Truth) -> Result<(), ScenarioError> {
+        if !index.is_multiple_of(self.every_view) {
+            return Ok(());
+        }
+        let t = self.row[self.at.t];
+        self.write_transforms(t, truth)
+            .and_then(|()| self.write_markers(t, truth))
+            .map_err(|e| ScenarioError::Output(format!("{RECORDING_NAME}: {e:#}")))
+    }
+}
+
+/// Each body's contact force, summed, at its centre of pressure (the normal-force-weighted
+/// mean of its contact points): one arrow a foot.
+fn body_forces(truth: &Truth) -> Vec<(Vector3<f64>, Vector3<f64>)> {
+    let mut bodies: Vec<(usize, Vector3<f64>, Vector3<f64>, f64)> = Vec::new();
+    for c in &truth.contacts {
+        let k = match bodies.iter().position(|b| b.0 == c.joint) {
+            Some(k) => k,
+            None => {
+                bodies.push((c.joint, Vector3::zeros(), Vector3::zeros(), 0.0));
+                bodies.len() - 1
+            }
+        };
+        let weight = c.force.z.max(0.0);
+        bodies[k].1 += c.force;
+        bodies[k].2 += c.position * weight;
+        bodies[k].3 += weight;
+    }
+    (bodies.into_iter())
+        .filter(|b| b.3 > 1e-6)
+        .map(|(_, f, moment, fz)| (moment / fz, f))
+        .collect()
+}
+
+/// The frame name of joint `i` in the recording.
+fn joint_frame(model: &Model, i: usize) -> String {
+    format!("joint/{}", model.joints[i].name)
+}
+
+fn stamp(t: f64) -> Value {
+    let ns = (t.max(0.0) * 1e9).round() as u64;
+    json!({"sec": ns / 1_000_000_000, "nsec": ns % 1_000_000_000})
+}
+
+fn vec3(v: &Vector3<f64>) -> Value {
+    json!({"x": v.x, "y": v.y, "z": v.z})
+}
+
+fn color(r: f64, g: f64, b: f64, a: f64) -> Value {
+    json!({"r": r, "g": g, "b": b, "a": a})
+}
+
+fn pose(m: &Se3) -> Value {
+    let q = UnitQuaternion::from_matrix(&m.rotation);
+    json!({"position": vec3(&m.translation),
+           "orientation": {"x": q.i, "y": q.j, "z": q.k, "w": q.w}})
+}
+
+/// A polyline (`kind` 0: strip, 1: closed loop).
+fn line(points: &[Vector3<f64>], thickness: f64, c: Value, kind: u8) -> Value {
+    json!({"type": kind, "pose": pose(&Se3::identity()), "thickness": thickness,
+           "scale_invariant": false, "points": points.iter().map(vec3).collect::<Vec<_>>(),
+           "color": c, "colors": [], "indices": []})
+}
+
+/// A force `f` (N) at `at`, drawn `ARROW_SCALE` m per newton along it.
+fn arrow(at: &Vector3<f64>, f: &Vector3<f64>) -> Value {
+    let length = f.norm() * ARROW_SCALE;
+    let rotation = UnitQuaternion::rotation_between(&Vector3::x(), f).unwrap_or_else(|| {
+        UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::PI)
+    });
+    let m = Se3::new(rotation.to_rotation_matrix().into_inner(), *at);
+    json!({"pose": pose(&m), "shaft_length": 0.8 * length, "shaft_diameter": 0.006,
+           "head_length": 0.2 * length, "head_diameter": 0.015, "color": color(0.1, 0.7, 0.2, 1.0)})
+}
+
+/// The convex hull of `points` on the ground (z = 0), counter-clockwise; None below three.
+fn convex_hull(points: &[Vector3<f64>]) -> Option<Vec<Vector3<f64>>> {
+    let mut p: Vec<(f64, f64)> = points.iter().map(|v| (v.x, v.y)).collect();
+    if p.len() < 3 {
+        return None;
+    }
+    p.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+    let cross = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| {
+        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+    };
+    let mut hull: Vec<(f64, f64)> = Vec::new();
+    for pass in 0..2 {
+        let start = hull.len();
+        let points: Box<dyn Iterator<Item = &(f64, f64)>> = if pass == 0 {
+            Box::new(p.iter())
+        } else {
+            Box::new(p.iter().rev())
+        };
+        for &q in points {
+            while hull.len() >= start + 2
+                && cross(hull[hull.len() - 2], hull[hull.len() - 1], q) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(q);
+        }
+        hull.pop();
+    }
+    Some(
+        hull.into_iter()
+            .map(|(x, y)| Vector3::new(x, y, 0.0))
+            .collect(),
+    )
+}

@@ -1,0 +1,173 @@
+//! `corps run --record`: the MCAP file reads back with Foxglove's own MCAP reader (the `mcap`
+//! crate) and holds the robot, its motion and the log: the signals equal the CSV log row for
+//! row, the markers' CoM is the logged CoM, every joint frame moves, and the robot's shapes
+//! are there (its URDF meshes where the files are found).
+
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::process::Command;
+
+fn repo(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(rel)
+}
+
+/// Messages of each topic: (log time in ns, JSON).
+fn read(path: &std::path::Path) -> BTreeMap<String, Vec<(u64, Value)>> {
+    let bytes = std::fs::read(path).expect("the recording");
+    let mut topics: BTreeMap<String, Vec<(u64, Value)>> = BTreeMap::new();
+    for message in mcap::MessageStream::new(&bytes).expect("an MCAP file") {
+        let message = message.expect("a well-formed message");
+        assert_eq!(message.channel.message_encoding, "json");
+        let schema = message.channel.schema.as_ref().expect("a schema");
+        assert_eq!(schema.encoding, "jsonschema");
+        let json: Value = serde_json::from_slice(&message.data).expect("JSON");
+        topics
+            .entry(message.channel.topic.clone())
+            .or_default()
+            .push((message.log_time, json));
+    }
+    topics
+}
+
+fn log(path: &std::path::Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).expect("the log");
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .expect("a header")
+        .split(',')
+        .map(String::from)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse().expect("a number")).collect())
+        .collect();
+    (header, rows)
+}
+
+#[test]
+fn a_recorded_walk_reads_back() {
+    let dir = tempfile::tempdir().expect("a directory");
+    let out = Command::new(env!("CARGO_BIN_EXE_corps"))
+        .current_dir(repo(""))
+        .args([
+            "run",
+            "scenarios/walk/tsid_torque_20cm.toml",
+            "--duration",
+            "6",
+            "--record",
+            "-o",
+        ])
+        .arg(dir.path())
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!dir.path().join("run.mcap.partial").exists());
+    let topics = read(&dir.path().join("run.mcap"));
+    let (header, rows) = log(&dir.path().join("log.csv"));
+
+    // The signals are the log, value for value (to the last bits serde_json's reader keeps:
+    // both files hold the shortest round-trip decimal of the same double).
+    let same = |a: Option<f64>, b: f64| a.is_some_and(|a| (a - b).abs() <= 4e-16 * b.abs());
+    let signals = &topics["/signals"];
+    assert_eq!(signals.len(), rows.len());
+    for ((_, s), row) in signals.iter().zip(&rows) {
+        for (name, value) in header.iter().zip(row) {
+            if name != "tick_us" {
+                assert!(
+                    same(s[name].as_f64(), *value),
+                    "{name}: {} vs {value}",
+                    s[name]
+                );
+            }
+        }
+    }
+
+    // The robot: one scene of shapes locked to joint frames, meshes where found.
+    let robot = &topics["/robot"];
+    assert_eq!(robot.len(), 1);
+    let entities = robot[0].1["entities"].as_array().expect("entities");
+    assert!(entities.len() > 20);
+    let meshes = entities
+        .iter()
+        .filter(|e| e.get("models").is_some())
+        .count();
+    if repo("../shared/robots/example-robot-data/talos_data/meshes").is_dir() {
+        assert!(meshes > 20, "{meshes} meshes");
+    }
+    for e in entities {
+        assert_eq!(e["frame_locked"], Value::Bool(true));
+        assert!(e["frame_id"]
+            .as_str()
+            .expect("a frame")
+            .starts_with("joint/"));
+    }
+
+    // Transforms: every joint frame at 50 Hz, and the feet move.
+    let tf = &topics["/tf"];
+    assert_eq!(tf.len(), 300);
+    let transforms = |k: usize| {
+        tf[k].1["transforms"]
+            .as_array()
+            .expect("transforms")
+            .clone()
+    };
+    assert_eq!(transforms(0).len(), 33);
+    let foot = |k: usize| {
+        transforms(k)
+            .into_iter()
+            .find(|t| t["child_frame_id"] == "joint/leg_left_6_joint")
+            .expect("the left ankle")["translation"]["x"]
+            .as_f64()
+            .expect("x")
+    };
+    assert!(foot(299) - foot(0) > 0.1, "the left foot walked");
+
+    // Markers: the CoM sphere where the log puts the CoM, footprints where feet landed.
+    let by_time: BTreeMap<u64, &Value> = signals.iter().map(|(t, v)| (*t, v)).collect();
+    for (t, m) in &topics["/markers"] {
+        let Some(s) = by_time.get(t) else { continue };
+        let points = &m["entities"][0]["spheres"][0]["pose"]["position"];
+        assert_eq!(points["x"], s["com_x"]);
+        assert_eq!(points["z"], s["com_z"]);
+    }
+    let last = &topics["/markers"].last().expect("markers").1;
+    let lines = last["entities"][1]["lines"]
+        .as_array()
+        .expect("lines")
+        .len();
+    assert!(
+        lines >= 3,
+        "{lines} lines: the CoM's drop line, a sole, the support hull"
+    );
+    let prints = (topics["/markers"].iter().rev())
+        .find_map(|(_, m)| {
+            let e = m["entities"]
+                .as_array()?
+                .iter()
+                .find(|e| e["id"] == "footprints")?;
+            Some(e["lines"].as_array()?.len())
+        })
+        .expect("footprints");
+    assert!(
+        prints >= 4,
+        "{prints} footprints: both feet at the start, then each landing"
+    );
+    // One arrow a foot on the ground, at its centre of pressure.
+    for (_, m) in &topics["/markers"] {
+        let arrows = m["entities"][2]["arrows"].as_array().expect("arrows").len();
+        assert!((1..=2).contains(&arrows), "{arrows} contact forces");
+    }
+    let first = &topics["/markers"][0].1["entities"][2]["arrows"];
+    assert_eq!(
+        first.as_array().expect("arrows").len(),
+        2,
+        "standing on both feet"
+    );
+}
