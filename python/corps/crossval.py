@@ -123,16 +123,28 @@ def fall_threshold(robot: str, make, forces=range(150, 476, 25)) -> float:
     return float("inf")
 
 
+def push_scale(robot: str) -> float:
+    """What the push scenario's forces are multiplied by on `robot` (its `for_mass`)."""
+    try:
+        import tomllib
+    except ImportError:  # Python < 3.11
+        import tomli as tomllib
+    pushes = tomllib.loads(pathlib.Path(PUSH).read_text()).get("push", [])
+    for_mass = pushes[0].get("for_mass") if pushes else None
+    return corps.Model.from_robot(robot).total_mass() / for_mass if for_mass else 1.0
+
+
 def push(robot: str) -> List[Row]:
     figures = [push_figures(r) for r in runs(PUSH, robot)]
+    scale = push_scale(robot)
     return [
-        ("push 100 N × 0.1 s: base excursion peak (mm)", [1e3 * f["peak"] for f in figures]),
+        (f"push {100 * scale:.0f} N × 0.1 s: base excursion peak (mm)", [1e3 * f["peak"] for f in figures]),
         ("push: time of the peak after the push (s)", [f["t_peak"] for f in figures]),
         ("push: back within 10% of the peak after (s)", [f["back"] for f in figures]),
         ("push: base offset at the end (mm)", [1e3 * f["end"] for f in figures]),
         ("diagnostic: peak sole lift during the push (mm)", [1e3 * f["lift"] for f in figures]),
-        ("push sweep (25 N steps, 0.1 s): smallest push not withstood (N)",
-         [fall_threshold(robot, make) for make in plant_factories(robot)]),
+        ("push sweep (25 N steps on TALOS, 0.1 s): smallest push not withstood (N)",
+         [scale * fall_threshold(robot, make) for make in plant_factories(robot)]),
     ]
 
 

@@ -53,6 +53,9 @@ def build_spec(model: "corps.Model", timestep: float, friction: float, integrato
     spec.option.cone = {"pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL,
                         "elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC}[cone]
     spec.option.impratio = impratio
+    # A state that blows up must reach corps (and end the run as diverged), not be reset to
+    # the model's initial pose by MuJoCo behind corps' back.
+    spec.option.disableflags |= mujoco.mjtDisableBit.mjDSBL_AUTORESET
     bodies, names = [], []
     for b in model.bodies():
         parent = spec.worldbody if b["parent"] is None else bodies[b["parent"]]
@@ -133,7 +136,7 @@ class MujocoPlant(corps.Plant):
         hinges = [j for j in self.joints if j[2] != "free"]
         self.dof_v = np.array([j[1] for j in hinges], dtype=int)
         self.dof_mj = np.array([j[4] for j in hinges], dtype=int)
-        self.effort = np.array([j[5] if j[5] else np.inf for j in hinges])
+        self.effort = np.array([np.inf if j[5] is None else j[5] for j in hinges])
         self.free = [j for j in self.joints if j[2] == "free"]
         # MuJoCo body id -> corps joint index (the world body maps to None).
         self.joint_of_body = {self.m.body(n).id: k for k, n in enumerate(self.body_names)}
@@ -174,6 +177,8 @@ class MujocoPlant(corps.Plant):
     # -- the plant protocol ----------------------------------------------------------------
     def reset(self, q, v, t, dt):
         mujoco.mj_resetData(self.m, self.d)
+        self.pushes.clear()
+        self.tau[:] = 0.0
         self._to_mujoco(q, v)
         self.d.time = t
         self.substeps = max(1, int(round(dt / self.timestep)))
@@ -214,6 +219,11 @@ class MujocoPlant(corps.Plant):
             if self.pushes:
                 self._apply_pushes()
             mujoco.mj_step(self.m, self.d)
+        bad = [w for w in (mujoco.mjtWarning.mjWARN_BADQACC, mujoco.mjtWarning.mjWARN_BADQPOS,
+                           mujoco.mjtWarning.mjWARN_BADQVEL) if self.d.warning[w].number > 0]
+        if bad:
+            # Reported as a non-finite state: corps ends the run as diverged.
+            self.d.qpos[:] = np.nan
 
     def contacts(self) -> np.ndarray:
         """Rows [joint, px, py, pz, fx, fy, fz]: the force on the robot at each contact
@@ -232,5 +242,7 @@ class MujocoPlant(corps.Plant):
         return np.array(rows) if rows else np.zeros((0, 7))
 
     def state(self):
+        # Contacts and their forces at this state (mj_step leaves those of the step's start).
+        mujoco.mj_forward(self.m, self.d)
         q, v = self._from_mujoco()
         return {"t": self.d.time, "q": q, "v": v, "tau": self.tau, "contacts": self.contacts()}

@@ -15,7 +15,7 @@ create_exception!(
     corps,
     ModelError,
     CorpsError,
-    "A model could not be loaded, or an algorithm got bad input (sizes, names, a non-unit quaternion)."
+    "A model could not be loaded, or an algorithm got bad input (sizes, names, frame ids)."
 );
 create_exception!(
     corps,

@@ -173,18 +173,18 @@ impl StatePlant for PythonPlant {
                     .extract::<PyArrayLike1<'_, f64, AllowTypeChange>>()
                     .map_err(|_| self.protocol("state", "'tau' must be a 1-D array".into()))?;
                 let tau = tau.as_array();
-                let first = self.nv - self.nv.min(tau.len());
-                if tau.len() != self.nv && tau.len() != self.nv - 6 {
+                let actuated = self.nv.checked_sub(6);
+                if tau.len() != self.nv && Some(tau.len()) != actuated {
                     return Err(self.protocol(
                         "state",
                         format!(
-                            "'tau' has size {}, expected {} or {}",
+                            "'tau' has size {}, expected nv = {} (or nv - 6 with a free-flyer)",
                             tau.len(),
-                            self.nv - 6,
                             self.nv
                         ),
                     ));
                 }
+                let first = self.nv - tau.len();
                 for (k, x) in tau.iter().enumerate() {
                     out.applied_torques[first + k] = *x;
                 }

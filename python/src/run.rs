@@ -165,7 +165,23 @@ pub fn run(
             if let Some(plant) = plant {
                 run = run.with_plant(plant)?;
             }
-            rows.values.reserve(run.ticks() * run.columns().len());
+            // The time series in memory: 8 bytes a value, under the scenario's log cap.
+            let values = run.ticks().saturating_mul(run.columns().len());
+            let bytes = values.saturating_mul(8) as u64;
+            let cap = parsed.output.max_log_bytes();
+            if bytes > cap {
+                return Err(ScenarioError::Invalid(format!(
+                    "the time series would take {:.0} MB in memory, over the log cap of {:.0} MB ([output] max_log_mb; shorten the run with duration=)",
+                    bytes as f64 / 1e6,
+                    cap as f64 / 1e6
+                )));
+            }
+            rows.values.try_reserve_exact(values).map_err(|_| {
+                ScenarioError::Invalid(format!(
+                    "cannot hold the time series in memory ({:.0} MB)",
+                    bytes as f64 / 1e6
+                ))
+            })?;
             run.run(&mut [&mut rows])
         }))
     });

@@ -80,3 +80,24 @@ def test_the_command_line(tmp_path):
     assert done.returncode == 0, done.stderr
     assert "verdict: completed" in done.stdout
     assert out.read_text().splitlines()[0].startswith("t,com_x")
+
+
+class NanTorques(MujocoPlant):
+    """Sends MuJoCo a NaN torque after 50 ms: its state blows up."""
+
+    def step(self, command):
+        if self.d.time - self.t0 > 0.05:
+            class Bad:
+                kind, torque = "torque", np.full(len(command.torque), np.nan)
+            command = Bad()
+        super().step(command)
+
+    def reset(self, q, v, t, dt):
+        super().reset(q, v, t, dt)
+        self.t0 = t
+
+
+def test_a_blown_up_mujoco_state_ends_the_run_as_diverged():
+    r = corps.run(STAND, duration=0.3, plant=NanTorques("talos"))
+    assert r.verdict == "diverged", r.report
+    assert r.metrics["verdict"]["t"] < 0.1

@@ -91,3 +91,8 @@ def test_errors_are_the_commands(corps_bin, tmp_path, scenario, options):
 def test_bad_options():
     with pytest.raises(corps.ScenarioError, match="estimator: 'kalman'"):
         corps.run(str(REPO / CASES[0][0]), estimator="kalman")
+
+
+def test_a_run_too_long_to_hold_is_refused_before_it_starts():
+    with pytest.raises(corps.ScenarioError, match="in memory, over the log cap"):
+        corps.run(str(REPO / "scenarios/control/tsid_torque_stand.toml"), duration=1e6)

@@ -15,6 +15,9 @@ use corps_model::{aba_with_external_forces, com_at_placements, Data, Model};
 use nalgebra::{DVector, Vector3};
 use std::sync::Arc;
 
+/// How far from 1 a reported quaternion's norm may be.
+const UNIT_QUATERNION: f64 = 1e-6;
+
 /// Contact points reserved in the truth (more are accepted, at the cost of an allocation).
 const CONTACT_CAPACITY: usize = 256;
 
@@ -94,6 +97,8 @@ pub struct ExternalPlant<P: StatePlant> {
     pushes: Vec<(Push, usize, corps_model::spatial::Se3)>,
     /// The state and the sensors are read since the last step.
     fresh: bool,
+    /// Plant time of the last state read: a plant's clock never goes back.
+    last_time: f64,
 }
 
 impl<P: StatePlant> ExternalPlant<P> {
@@ -126,6 +131,7 @@ impl<P: StatePlant> ExternalPlant<P> {
             state: PlantState::zeros(&model),
             wrenches: vec![Force::zero(); model.njoints()],
             fresh: false,
+            last_time: f64::NEG_INFINITY,
             plant,
             model,
             sensors,
@@ -158,11 +164,33 @@ impl<P: StatePlant> ExternalPlant<P> {
             )));
         }
         let finite = |x: &DVector<f64>| x.iter().all(|y| y.is_finite());
-        if !(s.time.is_finite() && finite(&s.q) && finite(&s.v)) {
+        let contacts_finite = (s.contacts.iter()).all(|c| {
+            c.force
+                .iter()
+                .chain(c.position.iter())
+                .all(|x| x.is_finite())
+        });
+        if !(s.time.is_finite() && finite(&s.q) && finite(&s.v) && contacts_finite) {
             return Err(PlantError::Diverged {
                 t: s.time,
                 reason: "the plant reported a non-finite state".into(),
             });
+        }
+        if s.time < self.last_time {
+            return Err(bad(&format!(
+                "time went back from {:.4} s to {:.4} s",
+                self.last_time, s.time
+            )));
+        }
+        for j in &model.joints {
+            if j.kind == corps_model::JointKind::FreeFlyer {
+                let norm = s.q.rows(j.idx_q + 3, 4).norm();
+                if (norm - 1.0).abs() > UNIT_QUATERNION {
+                    return Err(bad(&format!(
+                        "the base quaternion has norm {norm:.9} (a unit quaternion is needed)"
+                    )));
+                }
+            }
         }
         self.wrenches.fill(Force::zero());
         for c in &s.contacts {
@@ -196,6 +224,7 @@ impl<P: StatePlant> ExternalPlant<P> {
         };
         self.sensors.update_from(model, &input);
         self.fresh = true;
+        self.last_time = s.time;
         Ok(())
     }
 }

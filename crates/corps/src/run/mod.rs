@@ -31,7 +31,7 @@ pub use corps_scenario::sensor_profile::SensorProfile;
 pub use corps_sim::Overlap;
 
 use crate::output;
-use crate::output::recording::{Recording, RecordingScene};
+use crate::output::recording::{Recording, RecordingScene, RECORDING_NAME};
 use crate::progress::Progress;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
@@ -380,8 +380,15 @@ pub fn run_scenario(
             serde_json::to_string_pretty(&m)?.as_bytes(),
         )?,
     ];
-    if let Some(rec) = recording {
-        files.push(rec.finish()?);
+    match recording {
+        Some(rec) => files.push(rec.finish()?),
+        // No recording of an earlier run stays beside this run's log.
+        None => match std::fs::remove_file(dir.join(RECORDING_NAME)) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(e).context("removing the stale recording")
+            }
+            _ => {}
+        },
     }
     if scenario.output.plots {
         files.extend(plots::write(dir, &result.series, &header, &m.scenario)?);

@@ -20,14 +20,13 @@ pub fn resolve(uri: &str, dirs: &[PathBuf]) -> Option<PathBuf> {
     let path = uri.strip_prefix("file://").unwrap_or(uri);
     if let Some(rest) = path.strip_prefix("package://") {
         let (package, inner) = rest.split_once('/')?;
-        // A package may be the directory itself, or a directory inside it (example-robot-data
-        // names `package://example-robot-data/robots/<robot>/...`).
-        let candidates = dirs.iter().flat_map(|d| {
-            [
-                d.join(package).join(inner),
-                d.join(inner.strip_prefix("robots/").unwrap_or(inner)),
-            ]
-        });
+        let mut candidates: Vec<PathBuf> =
+            dirs.iter().map(|d| d.join(package).join(inner)).collect();
+        // example-robot-data's own URDFs name `package://example-robot-data/robots/<robot>/…`,
+        // which a copy of its robots' folders holds as `<robot>/…`.
+        if let ("example-robot-data", Some(robot)) = (package, inner.strip_prefix("robots/")) {
+            candidates.extend(dirs.iter().map(|d| d.join(robot)));
+        }
         return candidates.into_iter().find(|p| p.is_file());
     }
     let p = PathBuf::from(path);

@@ -60,8 +60,8 @@ pub struct Recording {
     sequence: u32,
     /// Whether each foot carried the robot at the last view (a new touchdown leaves a print).
     touching: Vec<bool>,
-    footprints: Vec<Value>,
-    footprints_written: usize,
+    /// Footprints written so far.
+    footprints: usize,
     /// How many visual shapes were drawn from meshes and from collision primitives.
     pub drawn: (usize, usize),
 }
@@ -137,8 +137,7 @@ impl Recording {
             every_log: log_every.max(1),
             sequence: 0,
             touching: vec![false; feet],
-            footprints: Vec::new(),
-            footprints_written: 0,
+            footprints: 0,
             drawn: (0, 0),
         };
         recording.write_robot()?;
@@ -273,6 +272,7 @@ impl Recording {
         )];
         let model = self.scene.model.clone();
         let mut support = Vec::new();
+        let mut prints = Vec::new();
         for (k, (frame, corners)) in self.scene.feet.iter().enumerate() {
             let placement = truth.frame_placement(&model, *frame);
             let world: Vec<Vector3<f64>> = corners.iter().map(|c| placement.act_point(c)).collect();
@@ -287,8 +287,7 @@ impl Recording {
                 support.extend_from_slice(&outline);
                 lines.push(line(&outline, 0.008, color(1.0, 0.75, 0.1, 1.0), 1));
                 if !self.touching[k] {
-                    self.footprints
-                        .push(line(&outline, 0.004, color(0.6, 0.6, 0.6, 0.8), 1));
+                    prints.push(line(&outline, 0.004, color(0.6, 0.6, 0.6, 0.8), 1));
                 }
             }
             self.touching[k] = touching;
@@ -311,10 +310,11 @@ impl Recording {
             entity("lines", "lines", lines),
             entity("forces", "arrows", arrows),
         ];
-        // Footprints stay until replaced: written again only when a foot lands.
-        if self.footprints.len() != self.footprints_written {
-            entities.push(entity("footprints", "lines", self.footprints.clone()));
-            self.footprints_written = self.footprints.len();
+        // A footprint stays for the rest of the run: each written once, when its foot lands.
+        for print in prints {
+            let id = format!("footprint/{}", self.footprints);
+            entities.push(entity(&id, "lines", vec![print]));
+            self.footprints += 1;
         }
         let message = json!({"deletions": [], "entities": entities});
         let channel = self.channels.markers;
