@@ -91,6 +91,18 @@ def build_spec(model: "corps.Model", timestep: float, friction: float, integrato
         g.contype, g.conaffinity = 1, 0
         g.mass = 0.0
         g.density = 0.0
+    # One servo a hinge or slide, at zero gain until `servo()` sets corps' gains: MuJoCo's
+    # implicitfast integrates its damping implicitly, as corps-sim integrates its servos.
+    for b in model.bodies():
+        if b["kind"] == "free":
+            continue
+        a = spec.add_actuator(name=b["name"], target=b["name"], trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        a.gaintype, a.biastype = mujoco.mjtGain.mjGAIN_FIXED, mujoco.mjtBias.mjBIAS_AFFINE
+        a.gainprm[0] = 0.0
+        a.biasprm[:3] = [0.0, 0.0, 0.0]
+        if b["effort"] is not None and np.isfinite(b["effort"]):
+            a.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+            a.forcerange = [-b["effort"], b["effort"]]
     floor = spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE,
                                     size=[0, 0, 1], pos=[0, 0, 0])
     floor.contype, floor.conaffinity = 0, 1
@@ -138,6 +150,12 @@ class MujocoPlant(corps.Plant):
         self.dof_mj = np.array([j[4] for j in hinges], dtype=int)
         self.effort = np.array([np.inf if j[5] is None else j[5] for j in hinges])
         self.free = [j for j in self.joints if j[2] == "free"]
+        # Actuator of each hinge, in the order of dof_v.
+        self.actuator = np.array([self.m.actuator(n).id for n in
+                                  (b["name"] for b in self.model.bodies() if b["kind"] != "free")],
+                                 dtype=int)
+        self.kp = np.zeros(len(hinges))
+        self.kd = np.zeros(len(hinges))
         # MuJoCo body id -> corps joint index (the world body maps to None).
         self.joint_of_body = {self.m.body(n).id: k for k, n in enumerate(self.body_names)}
         self.pushes: List[Tuple[int, np.ndarray, float, float, np.ndarray, np.ndarray]] = []
@@ -157,6 +175,13 @@ class MujocoPlant(corps.Plant):
         d.qpos[self.one_qa] = q[self.one_q]
         d.qpos[self.cont_qa] = np.arctan2(q[self.cont_q + 1], q[self.cont_q])
         d.qvel[self.dof_mj] = v[self.dof_v]
+
+    def _joint_angles(self, q: np.ndarray) -> np.ndarray:
+        """The hinge and slide positions of configuration q, in dof_v's order."""
+        out = np.zeros(len(self.dof_v))
+        for k, (iq, iv, kind, qa, da, _) in enumerate(j for j in self.joints if j[2] != "free"):
+            out[k] = np.arctan2(q[iq + 1], q[iq]) if kind == "continuous" else q[iq]
+        return out
 
     def _from_mujoco(self) -> Tuple[np.ndarray, np.ndarray]:
         d = self.d
@@ -206,19 +231,45 @@ class MujocoPlant(corps.Plant):
             d.xfrc_applied[body, :3] += force
             d.xfrc_applied[body, 3:] += torque + np.cross(point - d.xipos[body], force)
 
+    def servo(self, kp, kd, ki):
+        """corps' servo gains (per actuated joint): position and velocity commands act through
+        τ = kp (q_ref − q) + kd (v_ref − v), as in corps' simulator."""
+        if ki is not None and np.any(np.asarray(ki) != 0.0):
+            raise corps.PlantError("the MuJoCo plant has no PID integral term (actuation.pid_gains)")
+        self.kp[:] = kp
+        self.kd[:] = kd
+
+    def _set_servos(self, kp, kd):
+        self.m.actuator_gainprm[self.actuator, 0] = kp
+        self.m.actuator_biasprm[self.actuator, 1] = -kp
+        self.m.actuator_biasprm[self.actuator, 2] = -kd
+
     def step(self, command):
-        if command.kind != "torque":
-            raise corps.PlantError(
-                f"the MuJoCo plant takes torque commands; got a {command.kind} command")
-        tau = command.torque
-        first = self.model.nv - len(tau)
-        self.tau[self.dof_v] = np.clip(tau[self.dof_v - first], -self.effort, self.effort)
-        self.d.qfrc_applied[:] = 0.0
-        self.d.qfrc_applied[self.dof_mj] = self.tau[self.dof_v]
+        d = self.d
+        d.qfrc_applied[:] = 0.0
+        if command.kind == "torque":
+            tau = command.torque
+            first = self.model.nv - len(tau)
+            self.tau[self.dof_v] = np.clip(tau[self.dof_v - first], -self.effort, self.effort)
+            d.qfrc_applied[self.dof_mj] = self.tau[self.dof_v]
+            self._set_servos(0.0, 0.0)
+            d.ctrl[:] = 0.0
+        else:
+            # kp (q_ref − q) − kd v through the actuators (damping implicit), + kd v_ref applied.
+            v_ref = command.v_ref
+            kp = self.kp if command.kind == "position" else np.zeros_like(self.kp)
+            self._set_servos(kp, self.kd)
+            if command.kind == "position":
+                d.ctrl[self.actuator] = self._joint_angles(command.q_ref)
+            else:
+                d.ctrl[:] = 0.0
+            d.qfrc_applied[self.dof_mj] = self.kd * v_ref
         for _ in range(self.substeps):
             if self.pushes:
                 self._apply_pushes()
             mujoco.mj_step(self.m, self.d)
+        if command.kind != "torque":
+            self.tau[self.dof_v] = d.qfrc_actuator[self.dof_mj] + d.qfrc_applied[self.dof_mj]
         bad = [w for w in (mujoco.mjtWarning.mjWARN_BADQACC, mujoco.mjtWarning.mjWARN_BADQPOS,
                            mujoco.mjtWarning.mjWARN_BADQVEL) if self.d.warning[w].number > 0]
         if bad:

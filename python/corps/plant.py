@@ -17,6 +17,10 @@ import numpy as np
 class Plant:
     """Base class documenting the plant protocol (Pinocchio's q and v conventions).
 
+    A plant that takes position or velocity commands also defines `servo(kp, kd, ki)`: the
+    scenario's joint servo gains (per actuated joint; `ki` None without an integral term),
+    given once after `reset`, for corps' PD law τ = kp (q_ref − q) + kd (v_ref − v).
+
     A plant that can push the robot also defines
     `push(frame, start, duration, force, torque)`: the scenario's pushes, `force` (N, world
     axes) at the origin of `frame` and `torque` (N·m, world axes) from time `start` for

@@ -5,7 +5,7 @@
 use crate::arrays::vector;
 use crate::errors::PlantError as PyPlantError;
 use corps_loop::{Command, ContactForce, PlantError};
-use corps_sim::{PlantState, Push, StatePlant};
+use corps_sim::{PlantState, Push, ServoGains, StatePlant};
 use nalgebra::{DVector, Vector3};
 use numpy::{AllowTypeChange, PyArray1, PyArrayLike1, PyArrayLike2};
 use pyo3::prelude::*;
@@ -119,6 +119,24 @@ impl StatePlant for PythonPlant {
             self.object.call_method1(py, "step", (c,)).map(|_| ())
         })
         .map_err(|e| self.failed("step", e))
+    }
+
+    fn servo_gains(&mut self, gains: &ServoGains) -> Result<(), PlantError> {
+        let has = Python::attach(|py| self.object.bind(py).hasattr("servo"))
+            .map_err(|e| self.failed("servo", e))?;
+        if !has {
+            return Ok(());
+        }
+        Python::attach(|py| {
+            let integral = gains.integral.as_ref().map(|i| vector(py, i.ki.as_slice()));
+            let args = (
+                vector(py, gains.kp.as_slice()),
+                vector(py, gains.kd.as_slice()),
+                integral,
+            );
+            self.object.call_method1(py, "servo", args).map(|_| ())
+        })
+        .map_err(|e| self.failed("servo", e))
     }
 
     fn push(&mut self, push: &Push) -> Result<(), PlantError> {

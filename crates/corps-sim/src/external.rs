@@ -8,7 +8,7 @@
 //! active, `q̈ = ABA(q, v, τ, f_c + f_push)`, which is what the plant's own physics integrates
 //! up to its contact model.
 
-use crate::{Push, Sensors};
+use crate::{Push, Sensors, ServoGains};
 use corps_loop::{Command, ContactForce, Plant, PlantError, Sensed, Truth};
 use corps_model::spatial::Force;
 use corps_model::{aba_with_external_forces, com_at_placements, Data, Model};
@@ -58,6 +58,12 @@ pub trait StatePlant: Send {
     fn step(&mut self, command: &Command) -> Result<(), PlantError>;
     /// Writes the current true state into `out` (sized by [`PlantState::zeros`]).
     fn state(&mut self, out: &mut PlantState) -> Result<(), PlantError>;
+    /// The joint servo gains position and velocity commands act through (corps' simulator's
+    /// PD law, τ = kp (q_ref − q) + kd (v_ref − v), clamped at the effort limits). Given once,
+    /// after [`StatePlant::reset`]; a plant that takes torque commands only may ignore them.
+    fn servo_gains(&mut self, _gains: &ServoGains) -> Result<(), PlantError> {
+        Ok(())
+    }
     /// Schedules `push` (times on the plant's clock). A plant that cannot push the robot
     /// refuses it, and a scenario with pushes does not run on it.
     fn push(&mut self, push: &Push) -> Result<(), PlantError> {
@@ -81,6 +87,9 @@ impl<P: StatePlant + ?Sized> StatePlant for Box<P> {
     fn push(&mut self, push: &Push) -> Result<(), PlantError> {
         (**self).push(push)
     }
+    fn servo_gains(&mut self, gains: &ServoGains) -> Result<(), PlantError> {
+        (**self).servo_gains(gains)
+    }
 }
 
 /// A [`StatePlant`] with corps' sensors on it: a loop [`Plant`].
@@ -103,16 +112,18 @@ pub struct ExternalPlant<P: StatePlant> {
 
 impl<P: StatePlant> ExternalPlant<P> {
     /// `plant` read through `sensors`, started at (`q`, `v`, `t`) with control period `dt`,
-    /// and given `pushes`.
+    /// and given the servo `gains` and `pushes`.
     pub fn new<'a>(
         mut plant: P,
         model: Arc<Model>,
         sensors: Sensors,
         (q, v, t): (&[f64], &[f64], f64),
         dt: f64,
+        gains: &ServoGains,
         pushes: impl IntoIterator<Item = &'a Push>,
     ) -> Result<Self, PlantError> {
         plant.reset(q, v, t, dt)?;
+        plant.servo_gains(gains)?;
         let mut placed = Vec::new();
         for push in pushes {
             plant.push(push)?;

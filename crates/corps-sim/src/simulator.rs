@@ -231,6 +231,11 @@ impl Simulator {
         Ok(sim)
     }
 
+    /// The joint servos' gains (what position and velocity commands act through).
+    pub fn servo_gains(&self) -> &ServoGains {
+        &self.actuators.gains
+    }
+
     /// The pushes added, in the order they were added.
     pub fn pushes(&self) -> impl Iterator<Item = &Push> {
         self.pushes.iter().map(|(p, _, _)| p)

@@ -364,8 +364,15 @@ impl ScenarioRun {
         let (sim, sensors) = sim.into_parts()?;
         let model = sim.model().clone();
         let start = (sim.q().as_slice(), sim.v().as_slice(), sim.time());
-        let external =
-            ExternalPlant::new(plant, model, sensors, start, self.settings.dt, sim.pushes())?;
+        let external = ExternalPlant::new(
+            plant,
+            model,
+            sensors,
+            start,
+            self.settings.dt,
+            sim.servo_gains(),
+            sim.pushes(),
+        )?;
         self.closed_loop = ClosedLoop {
             plant: RunPlant::External(external),
             estimator,
