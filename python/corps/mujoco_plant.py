@@ -138,14 +138,12 @@ class MujocoPlant(corps.Plant):
             j = self.m.joint(b["name"])
             self.joints.append((b["idx_q"], b["idx_v"], b["kind"], int(j.qposadr[0]),
                                 int(j.dofadr[0]), b["effort"]))
-        # Index arrays, so that a state converts in a few vectorized copies.
-        one = [j for j in self.joints if j[2] in ("revolute", "prismatic")]
-        self.one_q = np.array([j[0] for j in one], dtype=int)
-        self.one_qa = np.array([j[3] for j in one], dtype=int)
-        cont = [j for j in self.joints if j[2] == "continuous"]
-        self.cont_q = np.array([j[0] for j in cont], dtype=int)
-        self.cont_qa = np.array([j[3] for j in cont], dtype=int)
+        # Index arrays over the hinges and slides, so that a state converts in a few
+        # vectorized copies.
         hinges = [j for j in self.joints if j[2] != "free"]
+        self.hinge_q = np.array([j[0] for j in hinges], dtype=int)
+        self.hinge_qa = np.array([j[3] for j in hinges], dtype=int)
+        self.continuous = np.array([j[2] == "continuous" for j in hinges], dtype=bool)
         self.dof_v = np.array([j[1] for j in hinges], dtype=int)
         self.dof_mj = np.array([j[4] for j in hinges], dtype=int)
         self.effort = np.array([np.inf if j[5] is None else j[5] for j in hinges])
@@ -172,15 +170,15 @@ class MujocoPlant(corps.Plant):
             mujoco.mju_quat2Mat(self.rotation, d.qpos[qa + 3:qa + 7])
             d.qvel[da:da + 3] = self.rotation.reshape(3, 3) @ v[iv:iv + 3]
             d.qvel[da + 3:da + 6] = v[iv + 3:iv + 6]
-        d.qpos[self.one_qa] = q[self.one_q]
-        d.qpos[self.cont_qa] = np.arctan2(q[self.cont_q + 1], q[self.cont_q])
+        d.qpos[self.hinge_qa] = self._joint_angles(q)
         d.qvel[self.dof_mj] = v[self.dof_v]
 
     def _joint_angles(self, q: np.ndarray) -> np.ndarray:
-        """The hinge and slide positions of configuration q, in dof_v's order."""
-        out = np.zeros(len(self.dof_v))
-        for k, (iq, iv, kind, qa, da, _) in enumerate(j for j in self.joints if j[2] != "free"):
-            out[k] = np.arctan2(q[iq + 1], q[iq]) if kind == "continuous" else q[iq]
+        """The hinge and slide positions of configuration q, in dof_v's order (a continuous
+        joint's (cos θ, sin θ) as θ)."""
+        out = q[self.hinge_q]
+        iq = self.hinge_q[self.continuous]
+        out[self.continuous] = np.arctan2(q[iq + 1], q[iq])
         return out
 
     def _from_mujoco(self) -> Tuple[np.ndarray, np.ndarray]:
@@ -193,9 +191,11 @@ class MujocoPlant(corps.Plant):
             mujoco.mju_quat2Mat(self.rotation, d.qpos[qa + 3:qa + 7])
             v[iv:iv + 3] = self.rotation.reshape(3, 3).T @ d.qvel[da:da + 3]
             v[iv + 3:iv + 6] = d.qvel[da + 3:da + 6]
-        q[self.one_q] = d.qpos[self.one_qa]
-        angle = d.qpos[self.cont_qa]
-        q[self.cont_q], q[self.cont_q + 1] = np.cos(angle), np.sin(angle)
+        angle = d.qpos[self.hinge_qa]
+        bounded = ~self.continuous
+        q[self.hinge_q[bounded]] = angle[bounded]
+        iq = self.hinge_q[self.continuous]
+        q[iq], q[iq + 1] = np.cos(angle[self.continuous]), np.sin(angle[self.continuous])
         v[self.dof_v] = d.qvel[self.dof_mj]
         return q, v
 

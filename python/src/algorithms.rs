@@ -2,7 +2,7 @@
 //! inputs' sizes and that `data` belongs to `model`. Results are returned as new arrays and
 //! also kept in `data`.
 
-use crate::arrays::{matrix, slice, vector, VectorArg};
+use crate::arrays::{dvector, matrix, slice, vector, VectorArg};
 use crate::errors::{model_error, ModelError};
 use crate::model::{
     random_configuration as random_q, FrameRef, PyData, PyModel, PyReferenceFrame, PySe3,
@@ -15,112 +15,62 @@ use pyo3::prelude::*;
 type Vector<'py> = PyResult<Bound<'py, PyArray1<f64>>>;
 type MatrixOut<'py> = PyResult<Bound<'py, PyArray2<f64>>>;
 
-/// Inverse dynamics τ = M(q) a + C(q, v) v + g(q) (RNEA; N·m, N).
-#[pyfunction]
-pub fn rnea<'py>(
-    py: Python<'py>,
-    model: &PyModel,
-    mut data: PyRefMut<'_, PyData>,
-    q: VectorArg<'_>,
-    v: VectorArg<'_>,
-    a: VectorArg<'_>,
-) -> Vector<'py> {
-    data.check(model)?;
-    let tau = cm::rnea(
-        &model.inner,
-        &mut data.inner,
-        &slice(&q),
-        &slice(&v),
-        &slice(&a),
-    )
-    .map_err(model_error)?;
-    Ok(vector(py, tau.as_slice()))
-}
-
-/// Non-linear effects h(q, v) = C(q, v) v + g(q).
-#[pyfunction]
-pub fn nonlinear_effects<'py>(
-    py: Python<'py>,
-    model: &PyModel,
-    mut data: PyRefMut<'_, PyData>,
-    q: VectorArg<'_>,
-    v: VectorArg<'_>,
-) -> Vector<'py> {
-    data.check(model)?;
-    let h = cm::nonlinear_effects(&model.inner, &mut data.inner, &slice(&q), &slice(&v))
-        .map_err(model_error)?;
-    Ok(vector(py, h.as_slice()))
-}
-
-/// Defines a Python function `name(model, data, q)` over a corps-model algorithm of the
-/// configuration alone, returning its result as a new array.
-macro_rules! of_configuration {
-    ($(#[doc = $doc:expr])* $name:ident => $algorithm:path, $out:ident -> $ret:ty) => {
+/// Defines a Python function `name(model, data, args…)` over a corps-model algorithm of those
+/// vectors, returning its result as a new array.
+macro_rules! algorithm {
+    ($(#[doc = $doc:expr])* $name:ident($($arg:ident),+) => $algorithm:path, $out:ident -> $ret:ty) => {
         $(#[doc = $doc])*
         #[pyfunction]
         pub fn $name<'py>(
             py: Python<'py>,
             model: &PyModel,
             mut data: PyRefMut<'_, PyData>,
-            q: VectorArg<'_>,
+            $($arg: VectorArg<'_>),+
         ) -> PyResult<Bound<'py, $ret>> {
             data.check(model)?;
-            let r = $algorithm(&model.inner, &mut data.inner, &slice(&q)).map_err(model_error)?;
+            let r = $algorithm(&model.inner, &mut data.inner, $(&slice(&$arg)),+)
+                .map_err(model_error)?;
             Ok($out(py, r))
         }
     };
 }
 
-fn column<'py>(py: Python<'py>, x: &nalgebra::DVector<f64>) -> Bound<'py, PyArray1<f64>> {
-    vector(py, x.as_slice())
+algorithm! {
+    /// Inverse dynamics τ = M(q) a + C(q, v) v + g(q) (RNEA; N·m, N).
+    rnea(q, v, a) => cm::rnea, dvector -> PyArray1<f64>
 }
-
-of_configuration! {
+algorithm! {
+    /// Non-linear effects h(q, v) = C(q, v) v + g(q).
+    nonlinear_effects(q, v) => cm::nonlinear_effects, dvector -> PyArray1<f64>
+}
+algorithm! {
+    /// Forward dynamics a = M⁻¹(τ − h) (ABA; rad/s², m/s²).
+    aba(q, v, tau) => cm::aba, dvector -> PyArray1<f64>
+}
+algorithm! {
     /// Generalized gravity g(q).
-    compute_generalized_gravity => cm::generalized_gravity, column -> PyArray1<f64>
+    compute_generalized_gravity(q) => cm::generalized_gravity, dvector -> PyArray1<f64>
 }
-of_configuration! {
+algorithm! {
     /// Joint-space inertia matrix M(q) (CRBA), both triangles filled (Pinocchio fills the upper).
-    crba => cm::crba, matrix -> PyArray2<f64>
+    crba(q) => cm::crba, matrix -> PyArray2<f64>
 }
-of_configuration! {
+algorithm! {
     /// M(q)⁻¹ by the O(n²) recursion, both triangles filled.
-    compute_minverse => cm::compute_minverse, matrix -> PyArray2<f64>
+    compute_minverse(q) => cm::compute_minverse, matrix -> PyArray2<f64>
 }
-of_configuration! {
+algorithm! {
     /// Joint Jacobians in the world frame at q (6 × nv, `data.J`).
-    compute_joint_jacobians => cm::compute_joint_jacobians, matrix -> PyArray2<f64>
+    compute_joint_jacobians(q) => cm::compute_joint_jacobians, matrix -> PyArray2<f64>
 }
-of_configuration! {
+algorithm! {
     /// CoM Jacobian (3 × nv, world axes); also sets `data.com`.
-    jacobian_center_of_mass => cm::jacobian_center_of_mass, matrix -> PyArray2<f64>
+    jacobian_center_of_mass(q) => cm::jacobian_center_of_mass, matrix -> PyArray2<f64>
 }
-of_configuration! {
+algorithm! {
     /// Centroidal momentum matrix A_G (6 × nv, [linear; angular] about the CoM, world axes;
     /// Pinocchio's `computeCentroidalMap`).
-    centroidal_map => cm::compute_centroidal_map, matrix -> PyArray2<f64>
-}
-
-/// Forward dynamics a = M⁻¹(τ − h) (ABA; rad/s², m/s²).
-#[pyfunction]
-pub fn aba<'py>(
-    py: Python<'py>,
-    model: &PyModel,
-    mut data: PyRefMut<'_, PyData>,
-    q: VectorArg<'_>,
-    v: VectorArg<'_>,
-    tau: VectorArg<'_>,
-) -> Vector<'py> {
-    data.check(model)?;
-    let a = cm::aba(
-        &model.inner,
-        &mut data.inner,
-        &slice(&q),
-        &slice(&v),
-        &slice(&tau),
-    )
-    .map_err(model_error)?;
-    Ok(vector(py, a.as_slice()))
+    centroidal_map(q) => cm::compute_centroidal_map, matrix -> PyArray2<f64>
 }
 
 /// Placements (and with v, a: velocities, accelerations) of every joint; read them with

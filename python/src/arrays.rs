@@ -33,3 +33,19 @@ pub fn matrix<'py, R: Dim, C: Dim, S: RawStorage<f64, R, C>>(
     let array = numpy::ndarray::Array2::from_shape_fn((rows, cols), |(r, c)| m[(r, c)]);
     PyArray2::from_owned_array(py, array)
 }
+
+/// A new 1-D array with the entries of a vector.
+pub fn dvector<'py>(py: Python<'py>, x: &nalgebra::DVector<f64>) -> Bound<'py, PyArray1<f64>> {
+    vector(py, x.as_slice())
+}
+
+/// The 4 × 4 homogeneous matrix of a placement.
+pub fn homogeneous<'py>(
+    py: Python<'py>,
+    m: &corps_model::spatial::Se3,
+) -> Bound<'py, PyArray2<f64>> {
+    let mut h = nalgebra::Matrix4::identity();
+    h.fixed_view_mut::<3, 3>(0, 0).copy_from(&m.rotation);
+    h.fixed_view_mut::<3, 1>(0, 3).copy_from(&m.translation);
+    matrix(py, &h)
+}

@@ -2,7 +2,7 @@
 //! and conventions (q = [x, y, z, qx, qy, qz, qw, joints…] for a free-flyer, spatial vectors
 //! [linear; angular], joints in Pinocchio's depth-first order).
 
-use crate::arrays::{matrix, slice, vector, VectorArg};
+use crate::arrays::{homogeneous, matrix, slice, vector, VectorArg};
 use crate::errors::{model_error, ModelError};
 use corps_model::spatial::Se3;
 use corps_model::{Data, Model, ReferenceFrame, RootJoint};
@@ -354,12 +354,7 @@ impl PySe3 {
     /// The 4 × 4 homogeneous matrix.
     #[getter]
     fn homogeneous<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray2<f64>> {
-        let mut h = nalgebra::Matrix4::identity();
-        h.fixed_view_mut::<3, 3>(0, 0)
-            .copy_from(&self.inner.rotation);
-        h.fixed_view_mut::<3, 1>(0, 3)
-            .copy_from(&self.inner.translation);
-        matrix(py, &h)
+        homogeneous(py, &self.inner)
     }
     /// The inverse placement.
     fn inverse(&self) -> Self {

@@ -2,7 +2,7 @@
 //! `state()` drives a scenario run in place of corps' simulator (`corps.run(..., plant=obj)`).
 //! corps reads the robot's sensors from the state it reports, with the scenario's noise.
 
-use crate::arrays::vector;
+use crate::arrays::{dvector, vector};
 use crate::errors::PlantError as PyPlantError;
 use corps_loop::{Command, ContactForce, PlantError};
 use corps_sim::{PlantState, Push, ServoGains, StatePlant};
@@ -39,7 +39,7 @@ impl PyCommand {
 
 impl PyCommand {
     fn new(py: Python<'_>, c: &Command) -> Self {
-        let arr = |x: &DVector<f64>| Some(vector(py, x.as_slice()).unbind());
+        let arr = |x: &DVector<f64>| Some(dvector(py, x).unbind());
         match c {
             Command::Torque(t) => Self {
                 kind: "torque",

@@ -2,19 +2,11 @@
 //! robot in another engine (the MuJoCo plant builds its scene from these, so both plants
 //! simulate one model: the same masses, inertias, locked joints and added bodies).
 
-use crate::arrays::{matrix, vector};
+use crate::arrays::{homogeneous, matrix, vector};
 use crate::model::{FrameRef, PyModel, PySe3};
 use corps_model::{JointKind, Shape};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-
-/// The 4 × 4 homogeneous matrix of a placement.
-fn homogeneous<'py>(py: Python<'py>, m: &corps_model::spatial::Se3) -> Bound<'py, PyAny> {
-    let mut h = nalgebra::Matrix4::identity();
-    h.fixed_view_mut::<3, 3>(0, 0).copy_from(&m.rotation);
-    h.fixed_view_mut::<3, 1>(0, 3).copy_from(&m.translation);
-    matrix(py, &h).into_any()
-}
 
 /// `Model.bodies()`.
 pub fn bodies<'py>(model: &PyModel, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {

@@ -3,7 +3,7 @@
 //! against the same scenario on the simulator itself. The sensors are read from the reported
 //! state (ABA with the reported contact forces), not from the simulator's own buffers.
 
-use corps_loop::{Command, ContactForce, PlantError};
+use corps_loop::{Command, PlantError};
 use corps_scenario::run::{RunOptions, RunResult, ScenarioRun};
 use corps_scenario::scenario::Scenario;
 use corps_sim::{PlantState, Push, Simulator, StatePlant};
@@ -56,22 +56,7 @@ impl StatePlant for Reporting {
         out.q.copy_from(self.sim.q());
         out.v.copy_from(self.sim.v());
         out.applied_torques.copy_from(self.sim.applied_torques());
-        out.contacts.clear();
-        let c = self.sim.contact();
-        for ((force, position), point) in c
-            .point_forces
-            .iter()
-            .zip(&c.point_positions)
-            .zip(self.sim.contact_points())
-        {
-            if *force != nalgebra::Vector3::zeros() {
-                out.contacts.push(ContactForce {
-                    joint: point.joint,
-                    position: *position,
-                    force: *force,
-                });
-            }
-        }
+        corps_sim::touching_points(&self.sim, &mut out.contacts);
         Ok(())
     }
 }

@@ -17,6 +17,10 @@ pub struct Push {
     pub torque: [f64; 3],
 }
 
+/// A push with the joint whose body it acts on and its frame's placement in that joint's frame
+/// (the frame resolved once, by [`crate::Simulator::add_push`]).
+pub type PlacedPush = (Push, usize, Se3);
+
 impl Push {
     /// Whether the push acts at time t.
     pub fn active(&self, t: f64) -> bool {

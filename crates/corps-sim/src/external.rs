@@ -8,7 +8,7 @@
 //! active, `q̈ = ABA(q, v, τ, f_c + f_push)`, which is what the plant's own physics integrates
 //! up to its contact model.
 
-use crate::{Push, Sensors, ServoGains};
+use crate::{PlacedPush, Push, Sensors, ServoGains};
 use corps_loop::{Command, ContactForce, Plant, PlantError, Sensed, Truth};
 use corps_model::spatial::Force;
 use corps_model::{aba_with_external_forces, com_at_placements, Data, Model};
@@ -103,7 +103,7 @@ pub struct ExternalPlant<P: StatePlant> {
     wrenches: Vec<Force>,
     /// The pushes given to the plant, with the joint and placement of their frame: they act
     /// in the accelerations the IMU and the F/T sensors' inertial part read.
-    pushes: Vec<(Push, usize, corps_model::spatial::Se3)>,
+    pushes: Vec<PlacedPush>,
     /// The state and the sensors are read since the last step.
     fresh: bool,
     /// Plant time of the last state read: a plant's clock never goes back.
@@ -112,32 +112,23 @@ pub struct ExternalPlant<P: StatePlant> {
 
 impl<P: StatePlant> ExternalPlant<P> {
     /// `plant` read through `sensors`, started at (`q`, `v`, `t`) with control period `dt`,
-    /// and given the servo `gains` and `pushes`.
-    pub fn new<'a>(
+    /// and given the servo `gains` and `pushes` (as [`crate::Simulator::pushes`] holds them).
+    pub fn new(
         mut plant: P,
         model: Arc<Model>,
         sensors: Sensors,
         (q, v, t): (&[f64], &[f64], f64),
         dt: f64,
         gains: &ServoGains,
-        pushes: impl IntoIterator<Item = &'a Push>,
+        pushes: &[PlacedPush],
     ) -> Result<Self, PlantError> {
         plant.reset(q, v, t, dt)?;
         plant.servo_gains(gains)?;
-        let mut placed = Vec::new();
-        for push in pushes {
+        for (push, _, _) in pushes {
             plant.push(push)?;
-            let frame = model
-                .frame_id(&push.frame)
-                .map(|f| &model.frames[f])
-                .map_err(|e| PlantError::Failed(format!("push: {e}")))?;
-            let joint = frame.parent_joint.ok_or_else(|| {
-                PlantError::Failed(format!("push on '{}': fixed to the world", push.frame))
-            })?;
-            placed.push((push.clone(), joint, frame.placement));
         }
         Ok(Self {
-            pushes: placed,
+            pushes: pushes.to_vec(),
             data: Data::new(&model),
             state: PlantState::zeros(&model),
             wrenches: vec![Force::zero(); model.njoints()],
@@ -152,11 +143,6 @@ impl<P: StatePlant> ExternalPlant<P> {
     /// The state last reported (after the last step, once a step succeeded).
     pub fn last_state(&self) -> &PlantState {
         &self.state
-    }
-
-    /// The plant back.
-    pub fn into_inner(self) -> P {
-        self.plant
     }
 
     /// Reads the plant's state, checks it and updates the sensors.

@@ -55,13 +55,13 @@ mod terrain;
 pub use actuation::{first_actuated, Actuators, Command, IntegralTerm, ServoGains};
 pub use contact::{point_force, Anchor, ContactParams, PointForce, PointLinearization};
 pub use contact_points::{sample_contact_points, ContactPoint, ShapeBound};
-pub use disturbance::Push;
+pub use disturbance::{PlacedPush, Push};
 pub use drive::{DriveState, Drives, FlexibleDrive};
 pub use error::{Result, SimError};
 pub use external::{ExternalPlant, PlantState, StatePlant};
 pub use overlap::Overlap;
 pub use placement::place_on_ground;
-pub use plant::SimulatedRobot;
+pub use plant::{touching_points, SimulatedRobot};
 pub use sensors::{
     ForceTorqueModel, ImuReading, Noise, Readings, SensorInput, SensorLayout, SensorNoise, Sensors,
 };

@@ -148,6 +148,24 @@ impl SimulatedRobot {
     }
 }
 
+/// The simulator's contact points that carry a force, into `out` (cleared first): the truth's
+/// contact list. Allocation-free within `out`'s capacity.
+pub fn touching_points(sim: &Simulator, out: &mut Vec<ContactForce>) {
+    out.clear();
+    let c = sim.contact();
+    let points = c.point_forces.iter().zip(&c.point_positions);
+    for ((force, position), point) in points.zip(sim.contact_points()) {
+        // Most sampled points are clear of the ground.
+        if *force != nalgebra::Vector3::zeros() {
+            out.push(ContactForce {
+                joint: point.joint,
+                position: *position,
+                force: *force,
+            });
+        }
+    }
+}
+
 impl Drop for SimulatedRobot {
     fn drop(&mut self) {
         self.stop_worker();
@@ -187,19 +205,7 @@ impl Plant for SimulatedRobot {
             truth.applied_torques.copy_from(sim.applied_torques());
             (truth.com, truth.com_velocity) = com_at_placements(model, data);
             truth.joint_placements.copy_from_slice(&data.o_m_i);
-            truth.contacts.clear();
-            let c = sim.contact();
-            let points = c.point_forces.iter().zip(&c.point_positions);
-            for ((force, position), point) in points.zip(sim.contact_points()) {
-                // Most sampled points are clear of the ground.
-                if *force != nalgebra::Vector3::zeros() {
-                    truth.contacts.push(ContactForce {
-                        joint: point.joint,
-                        position: *position,
-                        force: *force,
-                    });
-                }
-            }
+            touching_points(&sim, &mut truth.contacts);
         }
         Ok(())
     }

@@ -6,11 +6,11 @@ use crate::actuation::{Actuators, Command, ServoGains};
 use crate::contact::{Anchor, ContactParams};
 use crate::contact_pass::{contact_pass, PointVisit};
 use crate::contact_points::{sample_contact_points, ContactPoint, ShapeBound};
-use crate::disturbance::Push;
+use crate::disturbance::{PlacedPush, Push};
 use crate::drive::{Drives, FlexibleDrive};
 use crate::error::{Result, SimError};
 use crate::terrain::Terrain;
-use corps_model::spatial::{Force, Se3};
+use corps_model::spatial::Force;
 use corps_model::{aba_with_external_forces, integrate_to, Data, Model};
 use nalgebra::{DVector, Vector3};
 use serde::{Deserialize, Serialize};
@@ -130,7 +130,7 @@ pub struct Simulator {
     bounds: Vec<ShapeBound>,
     anchors: Vec<Anchor>,
     actuators: Actuators,
-    pushes: Vec<(Push, usize, Se3)>,
+    pushes: Vec<PlacedPush>,
     /// Surfaces to take out of the world: (time, index in `terrain.surfaces` now).
     removals: Vec<(f64, usize)>,
     q: DVector<f64>,
@@ -236,9 +236,9 @@ impl Simulator {
         &self.actuators.gains
     }
 
-    /// The pushes added, in the order they were added.
-    pub fn pushes(&self) -> impl Iterator<Item = &Push> {
-        self.pushes.iter().map(|(p, _, _)| p)
+    /// The pushes added, in the order they were added, each with the joint it acts on.
+    pub fn pushes(&self) -> &[PlacedPush] {
+        &self.pushes
     }
 
     /// Adds a push on the body of frame `push.frame`.

@@ -348,8 +348,8 @@ pub fn run_scenario(
         every: log_every,
         progress: Progress::new(run.ticks(), run.dt(), options.progress),
     };
-    let mut recording = match options.record {
-        true => Some(Recording::create(
+    let mut recording = if options.record {
+        Some(Recording::create(
             dir,
             RecordingScene {
                 model: run.model().clone(),
@@ -358,8 +358,9 @@ pub fn run_scenario(
             &header,
             run.dt(),
             log_every,
-        )?),
-        false => None,
+        )?)
+    } else {
+        None
     };
     let result = match &mut recording {
         Some(rec) => run.run(&mut [&mut sink, rec]),

@@ -62,8 +62,6 @@ pub struct Recording {
     touching: Vec<bool>,
     /// Footprints written so far.
     footprints: usize,
-    /// How many visual shapes were drawn from meshes and from collision primitives.
-    pub drawn: (usize, usize),
 }
 
 struct Channels {
@@ -138,7 +136,6 @@ impl Recording {
             sequence: 0,
             touching: vec![false; feet],
             footprints: 0,
-            drawn: (0, 0),
         };
         recording.write_robot()?;
         Ok(recording)
@@ -177,18 +174,14 @@ impl Recording {
             let bytes = std::fs::read(&path)
                 .with_context(|| format!("reading the mesh {}", path.display()))?;
             drawn_from_meshes.insert(v.link.clone());
-            entities.push(json!({
-                "timestamp": stamp(0.0), "frame_id": joint_frame(&model, joint),
-                "id": format!("visual/{k}"), "lifetime": stamp(0.0), "frame_locked": true,
-                "metadata": [],
-                "models": [{
+            let mut entity = entity(0.0, &joint_frame(&model, joint), &format!("visual/{k}"));
+            entity["models"] = json!([{
                     "pose": pose(&v.placement), "scale": vec3(scale),
                     "color": color(0.75, 0.75, 0.78, 1.0), "override_color": false,
                     "url": "", "media_type": media,
                     "data": base64::engine::general_purpose::STANDARD.encode(bytes),
-                }],
-            }));
-            self.drawn.0 += 1;
+            }]);
+            entities.push(entity);
         }
         // Links without a mesh found: their collision primitives.
         for (k, c) in model.collisions.iter().enumerate() {
@@ -216,14 +209,9 @@ impl Recording {
                 ),
                 Shape::Mesh { .. } => continue,
             };
-            let mut entity = json!({
-                "timestamp": stamp(0.0), "frame_id": joint_frame(&model, joint),
-                "id": format!("collision/{k}"), "lifetime": stamp(0.0), "frame_locked": true,
-                "metadata": [],
-            });
+            let mut entity = entity(0.0, &joint_frame(&model, joint), &format!("collision/{k}"));
             entity[key] = json!([primitive]);
             entities.push(entity);
-            self.drawn.1 += 1;
         }
         let channel = self.channels.robot;
         self.write(
@@ -299,21 +287,21 @@ impl Recording {
             .iter()
             .map(|(at, f)| arrow(at, f))
             .collect();
-        let entity = |id: &str, key: &str, items: Vec<Value>| {
-            let mut e = json!({"timestamp": stamp(t), "frame_id": "world", "id": id,
-                                "lifetime": stamp(0.0), "frame_locked": false, "metadata": []});
+        let world = |id: &str, key: &str, items: Vec<Value>| {
+            let mut e = entity(t, "world", id);
+            e["frame_locked"] = Value::Bool(false);
             e[key] = Value::Array(items);
             e
         };
         let mut entities = vec![
-            entity("points", "spheres", spheres),
-            entity("lines", "lines", lines),
-            entity("forces", "arrows", arrows),
+            world("points", "spheres", spheres),
+            world("lines", "lines", lines),
+            world("forces", "arrows", arrows),
         ];
         // A footprint stays for the rest of the run: each written once, when its foot lands.
         for print in prints {
             let id = format!("footprint/{}", self.footprints);
-            entities.push(entity(&id, "lines", vec![print]));
+            entities.push(world(&id, "lines", vec![print]));
             self.footprints += 1;
         }
         let message = json!({"deletions": [], "entities": entities});
@@ -378,6 +366,13 @@ fn body_forces(truth: &Truth) -> Vec<(Vector3<f64>, Vector3<f64>)> {
         .filter(|b| b.3 > 1e-6)
         .map(|(_, f, moment, fz)| (moment / fz, f))
         .collect()
+}
+
+/// A `foxglove.SceneUpdate` entity with no shapes yet: `id` in frame `frame` at time `t`,
+/// kept until replaced (lifetime 0) and locked to its frame.
+fn entity(t: f64, frame: &str, id: &str) -> Value {
+    json!({"timestamp": stamp(t), "frame_id": frame, "id": id, "lifetime": stamp(0.0),
+           "frame_locked": true, "metadata": []})
 }
 
 /// The frame name of joint `i` in the recording.
