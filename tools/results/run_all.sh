@@ -90,6 +90,7 @@ out=$(mktemp -d)
   bash tools/results/actuators.sh ./target/release/corps
   bash tools/results/icub_stepping.sh ./target/release/corps
   bash tools/results/crossval.sh
+  bash tools/results/teleop.sh ./target/release/corps
   cat tools/results/joint_limits.md
   cat tools/results/bad_input.md
 } > RESULTS.md.partial

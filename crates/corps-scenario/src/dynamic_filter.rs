@@ -53,7 +53,7 @@ pub fn multibody_zmp_error(
     robot: &Robot,
     q0: &DVector<f64>,
     posture: &DVector<f64>,
-    plan: &MotionPlan,
+    plan: &mut MotionPlan,
     ticks: usize,
     dt: f64,
     gravity: f64,

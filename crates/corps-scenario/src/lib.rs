@@ -2,7 +2,8 @@
 //! terrain, the simulator's settings, sensor noise and pushes, and for a closed-loop run a
 //! controller, its gains and a motion. This crate reads it ([`scenario`]), builds the world
 //! ([`setup`]), simulates it open-loop ([`simulation`], `corps sim`), the controllers of seed 000 chapter 4 ([`controller`], [`gains`]), the
-//! estimator ([`estimation`]) and the references ([`motion`], [`walk`], [`dynamic_filter`]),
+//! estimator ([`estimation`]) and the references ([`motion`], [`walk`], [`velocity_walk`],
+//! [`dynamic_filter`]; a velocity walk steered live by [`teleop`]),
 //! closes the loop through [`corps_loop`] and returns the [`metrics`], the verdict and the
 //! time series in memory ([`run`]). Writing files and printing belong to the caller.
 //!
@@ -39,6 +40,8 @@ pub mod series;
 pub mod setup;
 pub mod simulation;
 pub mod targets;
+pub mod teleop;
+pub mod velocity_walk;
 pub mod walk;
 
 pub use error::{Result, ScenarioError};

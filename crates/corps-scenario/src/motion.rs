@@ -5,6 +5,7 @@
 use crate::error::Context;
 use crate::targets::positive;
 pub use crate::targets::{FootTarget, PostureWave, Side, Targets};
+use crate::velocity_walk::{LiveVelocity, LiveWalk};
 use crate::walk::{VelocitySection, WalkMotion, WalkSection};
 use corps_control::tasks::Reference;
 use corps_control::trajectories::{MinJerk, Sampled, Sinusoid};
@@ -158,6 +159,8 @@ pub struct MotionPlan {
     com0: Vector3<f64>,
     feet0: [Se3; 2],
     walk: Option<WalkMotion>,
+    /// A velocity walk steered live, planned as it is sampled.
+    live: Option<LiveWalk>,
     com_file: Option<Sampled>,
     /// Per actuated joint, the posture sinusoid's amplitude.
     posture_amplitude: Option<std::sync::Arc<DVector<f64>>>,
@@ -182,18 +185,27 @@ pub struct Handover {
     pub feet: [Se3; 2],
 }
 
+/// The run's control period and length (s).
+#[derive(Clone, Copy, Debug)]
+pub struct Timeline {
+    pub dt: f64,
+    pub duration: f64,
+}
+
 impl MotionPlan {
-    /// The motion of `robot` from `handover` for a run of `duration` s at control period `dt`
-    /// over `terrain`; files are read relative to `base_dir`.
+    /// The motion of `robot` from `handover` over `timeline` and `terrain`; files are read
+    /// relative to `base_dir`. With `steering`, a velocity motion takes its commands from it
+    /// as the run goes instead of its schedule (which must then be empty).
     pub fn new(
         robot: &corps_robot::Robot,
         section: MotionSection,
         handover: Handover,
-        dt: f64,
-        duration: f64,
+        timeline: Timeline,
         base_dir: &std::path::Path,
         terrain: &Terrain,
+        steering: Option<std::sync::Arc<LiveVelocity>>,
     ) -> crate::Result<Self> {
+        let Timeline { dt, duration } = timeline;
         let Handover {
             com: com0,
             feet: feet0,
@@ -217,11 +229,27 @@ impl MotionPlan {
         };
         // CoM height above the soles at the handover.
         let com_height = com0.z - (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
-        let walk = match &section {
-            MotionSection::Walk(w) => {
+        let mut live = None;
+        let walk = match (&section, steering) {
+            (MotionSection::Velocity(v), Some(input)) => {
+                if !v.commands.is_empty() {
+                    crate::error::bail!(
+                        "motion.commands: a steered walk takes its commands live; remove them"
+                    );
+                }
+                let source = Box::new(input);
+                live = Some(LiveWalk::new(
+                    robot, source, v.release, &feet0, com_height, dt,
+                )?);
+                None
+            }
+            (_, Some(_)) => crate::error::bail!(
+                "motion: steering needs a velocity walk ([motion] kind = \"velocity\")"
+            ),
+            (MotionSection::Walk(w), None) => {
                 Some(WalkMotion::new(w, &feet0, &com0, dt, duration, terrain)?)
             }
-            MotionSection::Velocity(v) => Some(WalkMotion::velocity(
+            (MotionSection::Velocity(v), None) => Some(WalkMotion::velocity(
                 robot, v, &feet0, com_height, dt, duration,
             )?),
             _ => None,
@@ -252,6 +280,7 @@ impl MotionPlan {
             com0,
             feet0,
             walk,
+            live,
             com_file,
             posture_amplitude,
         })
@@ -272,8 +301,14 @@ impl MotionPlan {
         Targets::at_rest(&self.com0, &self.feet0)
     }
 
+    /// The live walk's MPC failures (periods where it held the previous sample) and the
+    /// first one; None without a live walk.
+    pub fn live_failures(&self) -> Option<(usize, Option<&str>)> {
+        self.live.as_ref().map(LiveWalk::failures)
+    }
+
     /// Writes the targets at time `t` (s since the handover) into `out`.
-    pub fn sample(&self, t: f64, out: &mut Targets) {
+    pub fn sample(&mut self, t: f64, out: &mut Targets) {
         let c0 = DVector::from_column_slice(self.com0.as_slice());
         match &self.section {
             MotionSection::Stand {} => {}
@@ -295,7 +330,9 @@ impl MotionPlan {
                 });
             }
             MotionSection::Walk(_) | MotionSection::Velocity(_) => {
-                if let Some(w) = &self.walk {
+                if let Some(w) = &mut self.live {
+                    w.sample(t, out);
+                } else if let Some(w) = &self.walk {
                     w.sample(t, out);
                 }
             }
@@ -418,17 +455,20 @@ mod tests {
                 com: Vector3::new(0.0, 0.0, 0.88),
                 feet: [foot(0.1), foot(-0.1)],
             },
-            1e-3,
-            10.0,
+            Timeline {
+                dt: 1e-3,
+                duration: 10.0,
+            },
             std::path::Path::new("."),
             &Terrain::default(),
+            None,
         )
         .unwrap()
     }
 
     #[test]
     fn the_sinusoid_starts_at_rest_and_reaches_its_amplitude() {
-        let p = plan(MotionSection::ComSinusoid {
+        let mut p = plan(MotionSection::ComSinusoid {
             amplitude: [0.0, 0.03, 0.0],
             frequency: 0.5,
             ramp: 1.0,
@@ -442,7 +482,7 @@ mod tests {
 
     #[test]
     fn one_foot_releases_then_lifts_the_swing_foot() {
-        let p = plan(MotionSection::OneFoot {
+        let mut p = plan(MotionSection::OneFoot {
             support: Side::Left,
             shift: 2.0,
             release: 0.3,

@@ -6,14 +6,15 @@
 //!   of the scenario's terrain under it (the tilted platforms);
 //! - velocity commands (v_x, v_y, ω) that change at given times, turned into footsteps and CoM
 //!   by the velocity-driven MPC of seed 002 §4.4, re-planned every control period
-//!   ([`VelocitySection`]).
+//!   ([`VelocitySection`]; steered live by [`crate::velocity_walk`]).
 
 use crate::error::{Context, Result};
 use crate::targets::{positive, FootTarget, Side, Targets};
+use crate::velocity_walk::VelocityGenerator;
 use corps_control::trajectories::MinJerk;
 use corps_model::spatial::{Motion, Se3};
 use corps_sim::Terrain;
-use corps_walk::mpc::{MpcParams, VelocityCommand, WalkingMpc};
+use corps_walk::mpc::VelocityCommand;
 use corps_walk::preview_control::PreviewParams;
 use corps_walk::preview_walk::PreviewWalk;
 use corps_walk::{
@@ -123,7 +124,8 @@ pub struct CommandAt {
 #[serde(deny_unknown_fields)]
 pub struct VelocitySection {
     /// `[[motion.commands]]`, in time order; before the first, and after a zero command, the
-    /// robot stands.
+    /// robot stands. None for a walk steered live ([`crate::run::ScenarioRun::steered`]).
+    #[serde(default)]
     pub commands: Vec<CommandAt>,
     /// Early contact release before lift-off (s); default: the double support.
     pub release: Option<f64>,
@@ -149,7 +151,7 @@ impl VelocitySection {
     }
 
     /// The command in force at `t`.
-    fn at(&self, t: f64) -> VelocityCommand {
+    pub fn at(&self, t: f64) -> VelocityCommand {
         self.commands
             .iter()
             .rev()
@@ -204,9 +206,7 @@ pub struct WalkMotion {
     contact: Vec<[bool; 2]>,
     /// The dynamic filter's correction per sample (empty without it).
     com_correction: Vec<[[f64; 2]; 2]>,
-    dt: f64,
-    origin: Vector3<f64>,
-    feet_rotation0: [nalgebra::Matrix3<f64>; 2],
+    frame: PlanFrame,
     /// When the plan starts (s after the handover): the preview window.
     pub lead_time: f64,
     /// The preview control that planned a footstep-list walk (None for the MPC's).
@@ -297,27 +297,15 @@ impl WalkMotion {
         dt: f64,
         duration: f64,
     ) -> Result<Self> {
-        // The robot's MPC settings (`walk_mpc` of its description's [gains]).
-        let file = robot
-            .gains("walk_mpc")
-            .map_err(|e| crate::error::invalid!("motion: {e}"))?;
-        let settings: MpcParams = corps_robot::toml_text::parse(&file.text)
-            .map_err(|e| crate::error::invalid!("motion: {}: {e}", file.shown))?;
-        let params = MpcParams {
-            lipm: Lipm::new(com_height, corps_walk::lipm::GRAVITY).context("motion: LIPM")?,
-            control_period: dt,
-            feet_distance: (feet0[0].translation - feet0[1].translation).xy().norm(),
-            ..settings
-        };
-        let release = v.release.unwrap_or(params.double_support);
-        let mut mpc = WalkingMpc::new(params, 0.0, 0.0, 0.0).context("motion: MPC")?;
+        let mut generator =
+            VelocityGenerator::new(robot, Box::new(v.clone()), feet0, com_height, dt)?;
+        let release = v.release.unwrap_or(generator.double_support());
         let n = (duration / dt).round() as usize + 1;
         let mut samples = Vec::with_capacity(n);
-        samples.push(mpc.reference());
-        for k in 1..n {
-            let t = (k - 1) as f64 * dt;
-            let r = mpc
-                .tick(v.at(t))
+        for _ in 0..n {
+            let t = generator.next_time();
+            let r = generator
+                .next()
                 .with_context(|| format!("motion: MPC at t = {t:.3} s"))?;
             samples.push(r);
         }
@@ -333,25 +321,15 @@ impl WalkMotion {
         lead_time: f64,
     ) -> Self {
         let n = samples.len();
-        let origin = (feet0[0].translation + feet0[1].translation) / 2.0;
-        let lead = (release / dt).round() as usize;
+        let lead = lead_samples(release, dt);
         let contact = (0..n)
-            .map(|i| {
-                let now = samples[i].phase;
-                let ahead = samples[(i + lead).min(n - 1)].phase;
-                [
-                    now.left_in_contact() && ahead.left_in_contact(),
-                    now.right_in_contact() && ahead.right_in_contact(),
-                ]
-            })
+            .map(|i| held_contact(&samples[i], &samples[(i + lead).min(n - 1)]))
             .collect();
         Self {
             samples,
             contact,
             com_correction: Vec::new(),
-            dt,
-            origin,
-            feet_rotation0: [feet0[0].rotation, feet0[1].rotation],
+            frame: PlanFrame::new(feet0, dt),
             lead_time,
             preview: None,
         }
@@ -384,7 +362,8 @@ impl WalkMotion {
             |r: &WalkingReference| !(r.phase.left_in_contact() && r.phase.right_in_contact());
         let first = self.samples.iter().position(stepping)?;
         let last = self.samples.iter().rposition(stepping)?;
-        Some((first as f64 * self.dt, (last + 1) as f64 * self.dt))
+        let dt = self.frame.dt;
+        Some((first as f64 * dt, (last + 1) as f64 * dt))
     }
 
     /// The planned CoM and feet at the end of the run (world).
@@ -394,14 +373,69 @@ impl WalkMotion {
 
     /// A plan point in the world.
     pub fn world(&self, p: Vector3<f64>) -> Vector3<f64> {
-        p + self.origin
+        p + self.frame.origin
     }
 
     /// Writes the targets at `t` into `out`.
     pub fn sample(&self, t: f64, out: &mut Targets) {
-        let i = ((t / self.dt).round() as usize).min(self.samples.len() - 1);
-        let r = &self.samples[i];
-        let prev = &self.samples[i.saturating_sub(1)];
+        let i = ((t / self.frame.dt).round() as usize).min(self.samples.len() - 1);
+        let correction = self.com_correction.get(i).copied().unwrap_or([[0.0; 2]; 2]);
+        self.frame.write(
+            &self.samples[i],
+            &self.samples[i.saturating_sub(1)],
+            self.contact[i],
+            correction,
+            out,
+        );
+    }
+}
+
+/// Samples of the release time `release` at period `dt`: how far ahead of a sample the
+/// controller's contact flags look.
+pub(crate) fn lead_samples(release: f64, dt: f64) -> usize {
+    (release / dt).round() as usize
+}
+
+/// The controller's contact of each foot (left, right) at sample `now`: held while the foot
+/// supports now and still supports at sample `ahead` (the release time later), so that its
+/// force ramps to zero before the lift-off.
+pub(crate) fn held_contact(now: &WalkingReference, ahead: &WalkingReference) -> [bool; 2] {
+    let (now, ahead) = (now.phase, ahead.phase);
+    [
+        now.left_in_contact() && ahead.left_in_contact(),
+        now.right_in_contact() && ahead.right_in_contact(),
+    ]
+}
+
+/// Where a walk plan sits in the world: plan x, y from the soles' midpoint at the handover,
+/// plan z from their height, feet orientations relative to the starting ones.
+#[derive(Clone, Debug)]
+pub(crate) struct PlanFrame {
+    pub(crate) dt: f64,
+    origin: Vector3<f64>,
+    feet_rotation0: [nalgebra::Matrix3<f64>; 2],
+}
+
+impl PlanFrame {
+    /// The frame of a plan starting from the soles `feet0`, sampled every `dt`.
+    pub(crate) fn new(feet0: &[Se3; 2], dt: f64) -> Self {
+        Self {
+            dt,
+            origin: (feet0[0].translation + feet0[1].translation) / 2.0,
+            feet_rotation0: [feet0[0].rotation, feet0[1].rotation],
+        }
+    }
+
+    /// Writes the targets of plan sample `r` (after `prev`, one period earlier) into `out`,
+    /// with the controller's contact flags `contact` and the dynamic filter's `correction`.
+    pub(crate) fn write(
+        &self,
+        r: &WalkingReference,
+        prev: &WalkingReference,
+        contact: [bool; 2],
+        correction: [[f64; 2]; 2],
+        out: &mut Targets,
+    ) {
         let o = self.origin;
         for k in 0..3 {
             out.com.pos[k] = r.com[k] + if k == 2 { o.z } else { o[k] };
@@ -419,7 +453,7 @@ impl WalkMotion {
             ),
         ];
         out.waist_yaw = r.waist_yaw;
-        out.com_correction = self.com_correction.get(i).copied().unwrap_or([[0.0; 2]; 2]);
+        out.com_correction = correction;
         for (k, (now, before)) in feet.into_iter().enumerate() {
             write_foot(
                 &mut out.feet[k],
@@ -429,7 +463,7 @@ impl WalkMotion {
                 o,
                 &self.feet_rotation0[k],
             );
-            out.feet[k].in_contact = self.contact[i][k];
+            out.feet[k].in_contact = contact[k];
             out.feet[k].supporting = [r.phase.left_in_contact(), r.phase.right_in_contact()][k];
         }
     }

@@ -9,3 +9,4 @@ pub mod progress;
 pub mod run;
 pub mod sim_cmd;
 pub mod stdout;
+pub mod teleop;

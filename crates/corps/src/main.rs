@@ -4,7 +4,7 @@
 mod model_cmd;
 mod robot_cmd;
 
-use corps::{actuator_cmd, run, sim_cmd};
+use corps::{actuator_cmd, run, sim_cmd, teleop};
 
 use clap::{Parser, Subcommand};
 
@@ -34,6 +34,9 @@ enum Command {
     /// Run a whole-body controller on the simulated robot (TOML scenario): print the metrics,
     /// write the log, metrics and plots.
     Run(run::RunArgs),
+    /// Walk the robot from the keyboard (velocity commands to the walking MPC, seed 002
+    /// §4.14) in real time with a terminal display, or from a key script (`--keys`).
+    Teleop(teleop::TeleopArgs),
     /// Joint actuators (seed 000 ch. 3): identification, thermal model, current-limiting MPC.
     #[command(subcommand)]
     Actuator(actuator_cmd::ActuatorCommand),
@@ -48,6 +51,7 @@ fn main() {
         Some(Command::Robot(cmd)) => robot_cmd::run(cmd),
         Some(Command::Sim(args)) => sim_cmd::run(args),
         Some(Command::Run(args)) => run::run(args),
+        Some(Command::Teleop(args)) => teleop::run(args),
         Some(Command::Actuator(cmd)) => actuator_cmd::run(cmd),
     };
     if let Err(e) = result {

@@ -57,14 +57,19 @@ pub struct RunOptions {
     /// Raised to stop the run at the next tick: it then returns what it has, marked
     /// interrupted.
     pub interrupt: Option<&'static AtomicBool>,
+    /// Ends the run this long (s) after its first failure (a fall, a controller failure)
+    /// instead of running on to the scenario's end: a teleoperated robot that fell. None
+    /// runs on, so that the log shows what followed.
+    pub stop_after_failure: Option<f64>,
 }
 
 impl Default for RunOptions {
-    /// One thread, no interrupt: for tests and for rollouts run side by side.
+    /// One thread, no interrupt, run to the end: for tests and for rollouts run side by side.
     fn default() -> Self {
         Self {
             overlap: Overlap::Never,
             interrupt: None,
+            stop_after_failure: None,
         }
     }
 }
@@ -104,6 +109,29 @@ impl ScenarioRun {
         name: &str,
         base_dir: &Path,
         options: RunOptions,
+    ) -> Result<Self> {
+        Self::build(scenario, name, base_dir, options, None)
+    }
+
+    /// As [`ScenarioRun::new`], the scenario's velocity walk (`[motion] kind = "velocity"`,
+    /// no `commands`) taking its command from `steering` as the run goes: an operator's
+    /// keyboard or joystick sets it from another thread ([`crate::teleop`]).
+    pub fn steered(
+        scenario: &Scenario,
+        name: &str,
+        base_dir: &Path,
+        options: RunOptions,
+        steering: std::sync::Arc<crate::velocity_walk::LiveVelocity>,
+    ) -> Result<Self> {
+        Self::build(scenario, name, base_dir, options, Some(steering))
+    }
+
+    fn build(
+        scenario: &Scenario,
+        name: &str,
+        base_dir: &Path,
+        options: RunOptions,
+        steering: Option<std::sync::Arc<crate::velocity_walk::LiveVelocity>>,
     ) -> Result<Self> {
         let Some(section) = &scenario.controller else {
             bail!("no [controller] section: this is a `corps sim` scenario");
@@ -263,10 +291,13 @@ impl ScenarioRun {
                 com: com0,
                 feet: feet0,
             },
-            dt,
-            scenario.duration,
+            motion::Timeline {
+                dt,
+                duration: scenario.duration,
+            },
             base_dir,
             sim.terrain(),
+            steering,
         )?;
         let dynamic_filter = match &scenario.motion {
             MotionSection::Walk(w) if w.dynamic_filter => Some(
@@ -332,6 +363,7 @@ impl ScenarioRun {
                 stabilized,
                 dt,
                 columns: columns.len(),
+                stop_after_failure: options.stop_after_failure,
             },
             metrics,
             verdict,
@@ -475,6 +507,18 @@ impl ScenarioRun {
         }
         m.against_thesis = m.thesis_comparison();
         m.controller_report = closed_loop.controller.report();
+        if let Some((failures, first)) = closed_loop.references.live_failures() {
+            m.controller_report.push(crate::metrics::ReportLine {
+                figure: format!(
+                    "walking MPC failures (the reference held its last sample){}",
+                    first.map(|f| format!(", first {f}")).unwrap_or_default()
+                ),
+                value: failures as f64,
+                unit: "control periods".into(),
+                thesis: None,
+                met: None,
+            });
+        }
         Ok(RunResult {
             metrics: m,
             columns,

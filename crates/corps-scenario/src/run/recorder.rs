@@ -35,6 +35,8 @@ pub(crate) struct RecorderSetup {
     pub stabilized: bool,
     pub dt: f64,
     pub columns: usize,
+    /// Stop the run this long (s) after its first failure (None: run on to the end).
+    pub stop_after_failure: Option<f64>,
 }
 
 /// Observer of a scenario run.
@@ -189,9 +191,13 @@ impl Observer<ScenarioController> for Recorder<'_, '_> {
             state_finite,
             safe_command: tick.fallback.is_some(),
         };
-        match self.verdict.observe(&sample) {
-            Some(_) => Flow::Stop,
-            None => Flow::Continue,
+        if self.verdict.observe(&sample).is_some() {
+            return Flow::Stop;
+        }
+        let failed_at = self.verdict.failure().and_then(|f| f.t);
+        match (self.setup.stop_after_failure, failed_at) {
+            (Some(grace), Some(at)) if t - at >= grace => Flow::Stop,
+            _ => Flow::Continue,
         }
     }
 }

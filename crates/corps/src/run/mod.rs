@@ -332,12 +332,29 @@ pub fn run_scenario(
     dir: &Path,
     options: RunOptions,
 ) -> Result<RunReport> {
-    let run_options = corps_scenario::run::RunOptions {
+    let run = ScenarioRun::new(scenario, name, base_dir, library_options(&options))
+        .map_err(|e| command_error(e, dir))?;
+    run_built(run, scenario, dir, options, &mut [])
+}
+
+/// The library's options of a run executed with `options`.
+pub fn library_options(options: &RunOptions) -> corps_scenario::run::RunOptions {
+    corps_scenario::run::RunOptions {
         overlap: options.overlap,
         interrupt: options.interrupt,
-    };
-    let run = ScenarioRun::new(scenario, name, base_dir, run_options)
-        .map_err(|e| command_error(e, dir))?;
+        stop_after_failure: None,
+    }
+}
+
+/// Runs a built scenario, writing its log, metrics, plots (and recording) into `dir`; every
+/// row also goes to `extra` (a live display, for instance).
+pub fn run_built(
+    run: ScenarioRun,
+    scenario: &Scenario,
+    dir: &Path,
+    options: RunOptions,
+    extra: &mut [&mut dyn RowSink],
+) -> Result<RunReport> {
     let header = run.columns().to_vec();
     let log_every = scenario.output.log_every;
     let cap = scenario.output.max_log_bytes();
@@ -362,11 +379,12 @@ pub fn run_scenario(
     } else {
         None
     };
-    let result = match &mut recording {
-        Some(rec) => run.run(&mut [&mut sink, rec]),
-        None => run.run(&mut [&mut sink]),
+    let mut sinks: Vec<&mut dyn RowSink> = vec![&mut sink];
+    if let Some(rec) = &mut recording {
+        sinks.push(rec);
     }
-    .map_err(|e| command_error(e, dir))?;
+    sinks.extend(extra.iter_mut().map(|s| &mut **s as &mut dyn RowSink));
+    let result = run.run(&mut sinks).map_err(|e| command_error(e, dir))?;
     sink.progress.finish();
     let mut m = result.metrics;
     if let Some(profile) = &options.noise {
