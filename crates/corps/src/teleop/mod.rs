@@ -57,6 +57,11 @@ pub struct TeleopArgs {
     /// Also write `run.mcap` for the 3D viewer (Foxglove).
     #[arg(long)]
     record: bool,
+    /// Stream the session live to Foxglove on HOST:PORT (default 127.0.0.1:8765; open a
+    /// "Foxglove WebSocket" connection to ws://HOST:PORT). A key script then plays in real
+    /// time.
+    #[arg(long, value_name = "HOST:PORT", num_args = 0..=1, default_missing_value = "127.0.0.1:8765")]
+    stream: Option<String>,
 }
 
 /// What a teleoperated run produced.
@@ -83,6 +88,7 @@ pub fn run(args: TeleopArgs) -> Result<()> {
     let mut options = RunOptions::interactive();
     options.robot = args.robot.clone();
     options.record = args.record;
+    options.stream = args.stream.clone();
     // The display replaces the progress bar; a script run shows the bar.
     options.progress = script.is_some();
     let report = teleoperate(
@@ -167,12 +173,14 @@ pub fn teleoperate(
         .with_context(|| path.display().to_string())?;
     let quit = options.interrupt.unwrap_or(&crate::interrupt::FLAG);
     let headless = script.is_some();
+    // A streamed script plays in real time, for the viewer to show it as it happens.
+    let realtime = !headless || options.stream.is_some();
     let pad = VelocityPad::new(PadSettings::default());
     let mut sink = TeleopSink::new(
         run.columns(),
         run.dt(),
         input.clone(),
-        !headless,
+        realtime,
         script.unwrap_or_default(),
         pad.clone(),
         quit,

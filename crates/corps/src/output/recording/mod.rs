@@ -1,5 +1,6 @@
 //! `corps run … --record`: the run as an MCAP file (`run.mcap`) that Foxglove opens, in its
-//! desktop app or in a browser: the robot in 3D (the URDF's visual meshes, or its collision
+//! desktop app or in a browser, or streamed live to it (`corps teleop --stream`, [`live`]):
+//! the robot in 3D (the URDF's visual meshes, or its collision
 //! primitives where a mesh file is not found), moving with the true state; the CoM and its
 //! reference, the ZMP and its reference, the support polygon of the feet in contact, the
 //! contact forces as arrows and the footprints where each foot landed; and every column of
@@ -10,8 +11,14 @@
 //! `/markers` (`foxglove.SceneUpdate` in the world frame), `/signals` (`corps.Signals`). 3D
 //! topics are written every `VIEW_PERIOD` of controlled time, signals with the log.
 
+pub mod live;
+mod mcap_file;
 mod meshes;
 mod schemas;
+mod topics;
+
+pub use live::LiveStream;
+use topics::{Publish, Topic};
 
 use anyhow::{anyhow, Context, Result};
 use base64::Engine;
@@ -22,9 +29,6 @@ use corps_scenario::run::RowSink;
 use corps_scenario::ScenarioError;
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
 use serde_json::{json, Value};
-use std::collections::BTreeMap;
-use std::fs::File;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -44,12 +48,10 @@ pub struct RecordingScene {
     pub feet: Vec<(usize, [Vector3<f64>; 4])>,
 }
 
-/// Streams a run into `run.mcap.partial`, renamed to `run.mcap` when it finishes.
+/// Turns a run into the scene's messages: into `run.mcap.partial`, renamed to `run.mcap` when
+/// it finishes, or live to viewers.
 pub struct Recording {
-    writer: mcap::Writer<BufWriter<File>>,
-    partial: PathBuf,
-    target: PathBuf,
-    channels: Channels,
+    out: Box<dyn Publish>,
     scene: RecordingScene,
     columns: Vec<String>,
     /// Indices of the columns the markers read.
@@ -57,18 +59,10 @@ pub struct Recording {
     row: Vec<f64>,
     every_view: usize,
     every_log: usize,
-    sequence: u32,
     /// Whether each foot carried the robot at the last view (a new touchdown leaves a print).
     touching: Vec<bool>,
     /// Footprints written so far.
     footprints: usize,
-}
-
-struct Channels {
-    tf: u16,
-    robot: u16,
-    markers: u16,
-    signals: u16,
 }
 
 struct Columns {
@@ -97,21 +91,28 @@ impl Recording {
         dt: f64,
         log_every: usize,
     ) -> Result<Self> {
-        let partial = dir.join(format!("{RECORDING_NAME}.partial"));
-        let file =
-            File::create(&partial).with_context(|| format!("creating {}", partial.display()))?;
-        let mut writer = mcap::Writer::new(BufWriter::new(file))?;
-        let no_metadata = BTreeMap::new();
-        let mut channel = |topic: &str, name: &str, schema: &str| -> Result<u16> {
-            let id = writer.add_schema(name, "jsonschema", schema.as_bytes())?;
-            Ok(writer.add_channel(id, topic, "json", &no_metadata)?)
-        };
-        let channels = Channels {
-            tf: channel("/tf", "foxglove.FrameTransforms", schemas::FRAME_TRANSFORMS)?,
-            robot: channel("/robot", "foxglove.SceneUpdate", schemas::SCENE_UPDATE)?,
-            markers: channel("/markers", "foxglove.SceneUpdate", schemas::SCENE_UPDATE)?,
-            signals: channel("/signals", "corps.Signals", schemas::SIGNALS)?,
-        };
+        let out = Box::new(mcap_file::McapFile::create(dir)?);
+        Self::with_output(out, scene, columns, dt, log_every)
+    }
+
+    /// Streams the run live through `stream`, as [`Recording::create`] records it.
+    pub fn stream(
+        stream: LiveStream,
+        scene: RecordingScene,
+        columns: &[String],
+        dt: f64,
+        log_every: usize,
+    ) -> Result<Self> {
+        Self::with_output(Box::new(stream), scene, columns, dt, log_every)
+    }
+
+    fn with_output(
+        out: Box<dyn Publish>,
+        scene: RecordingScene,
+        columns: &[String],
+        dt: f64,
+        log_every: usize,
+    ) -> Result<Self> {
         let c = |n: &str| column(columns, n);
         let at = Columns {
             t: c("t")?,
@@ -123,17 +124,13 @@ impl Recording {
         };
         let feet = scene.feet.len();
         let mut recording = Self {
-            writer,
-            target: dir.join(RECORDING_NAME),
-            partial,
-            channels,
+            out,
             scene,
             columns: columns.to_vec(),
             at,
             row: vec![0.0; columns.len()],
             every_view: ((VIEW_PERIOD / dt).round() as usize).max(1),
             every_log: log_every.max(1),
-            sequence: 0,
             touching: vec![false; feet],
             footprints: 0,
         };
@@ -141,18 +138,8 @@ impl Recording {
         Ok(recording)
     }
 
-    fn write(&mut self, channel: u16, t: f64, message: &Value) -> Result<()> {
-        let time = (t.max(0.0) * 1e9).round() as u64;
-        let header = mcap::records::MessageHeader {
-            channel_id: channel,
-            sequence: self.sequence,
-            log_time: time,
-            publish_time: time,
-        };
-        self.sequence = self.sequence.wrapping_add(1);
-        let bytes = serde_json::to_vec(message)?;
-        self.writer.write_to_known_channel(&header, &bytes)?;
-        Ok(())
+    fn write(&mut self, topic: Topic, t: f64, message: &Value) -> Result<()> {
+        self.out.publish(topic, t, serde_json::to_vec(message)?)
     }
 
     /// The robot's shapes, each locked to its joint's frame, once for the whole run.
@@ -213,9 +200,8 @@ impl Recording {
             entity[key] = json!([primitive]);
             entities.push(entity);
         }
-        let channel = self.channels.robot;
         self.write(
-            channel,
+            Topic::Robot,
             0.0,
             &json!({"deletions": [], "entities": entities}),
         )
@@ -234,8 +220,7 @@ impl Recording {
                 })
             })
             .collect();
-        let channel = self.channels.tf;
-        self.write(channel, t, &json!({"transforms": transforms}))
+        self.write(Topic::Tf, t, &json!({"transforms": transforms}))
     }
 
     /// CoM, ZMP, support polygon, contact forces and footprints, in the world frame.
@@ -305,17 +290,13 @@ impl Recording {
             self.footprints += 1;
         }
         let message = json!({"deletions": [], "entities": entities});
-        let channel = self.channels.markers;
-        self.write(channel, t, &message)
+        self.write(Topic::Markers, t, &message)
     }
 
-    /// Writes the summary and renames the file to `run.mcap`.
-    pub fn finish(mut self) -> Result<PathBuf> {
-        self.writer.finish()?;
-        drop(self.writer);
-        std::fs::rename(&self.partial, &self.target)
-            .with_context(|| format!("writing {}", self.target.display()))?;
-        Ok(self.target)
+    /// Ends the output: the recording's summary written and the file renamed to `run.mcap`
+    /// (returned), or the live stream's connections closed (None).
+    pub fn finish(self) -> Result<Option<PathBuf>> {
+        self.out.finish()
     }
 }
 
@@ -327,8 +308,8 @@ impl RowSink for Recording {
                 .zip(row)
                 .map(|(c, v)| (c.clone(), json!(v)))
                 .collect();
-            let (t, channel) = (row[self.at.t], self.channels.signals);
-            self.write(channel, t, &Value::Object(signals))
+            let t = row[self.at.t];
+            self.write(Topic::Signals, t, &Value::Object(signals))
                 .map_err(|e| ScenarioError::Output(format!("{RECORDING_NAME}: {e:#}")))?;
         }
         Ok(())

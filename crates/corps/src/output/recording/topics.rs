@@ -1,0 +1,60 @@
+//! The topics of a recording or a live stream, with their Foxglove schema names and JSON
+//! schemas, and where their messages go ([`Publish`]: an MCAP file or a live stream).
+
+use super::schemas;
+use anyhow::Result;
+use std::path::PathBuf;
+
+/// A topic of the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Topic {
+    /// `foxglove.FrameTransforms`: world → each joint frame.
+    Tf,
+    /// `foxglove.SceneUpdate`: the robot's shapes locked to the joint frames, sent once.
+    Robot,
+    /// `foxglove.SceneUpdate` in the world frame: CoM, ZMP, support polygon, forces, prints.
+    Markers,
+    /// `corps.Signals`: one log row.
+    Signals,
+}
+
+impl Topic {
+    pub const ALL: [Topic; 4] = [Topic::Tf, Topic::Robot, Topic::Markers, Topic::Signals];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Topic::Tf => "/tf",
+            Topic::Robot => "/robot",
+            Topic::Markers => "/markers",
+            Topic::Signals => "/signals",
+        }
+    }
+
+    pub fn schema_name(self) -> &'static str {
+        match self {
+            Topic::Tf => "foxglove.FrameTransforms",
+            Topic::Robot | Topic::Markers => "foxglove.SceneUpdate",
+            Topic::Signals => "corps.Signals",
+        }
+    }
+
+    pub fn schema(self) -> &'static str {
+        match self {
+            Topic::Tf => schemas::FRAME_TRANSFORMS,
+            Topic::Robot | Topic::Markers => schemas::SCENE_UPDATE,
+            Topic::Signals => schemas::SIGNALS,
+        }
+    }
+
+    /// Position in [`Topic::ALL`].
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// Where a scene's messages go: each JSON message on its topic at controlled time `t` (s).
+pub trait Publish: Send {
+    fn publish(&mut self, topic: Topic, t: f64, json: Vec<u8>) -> Result<()>;
+    /// Ends the output; the file it wrote, if any.
+    fn finish(self: Box<Self>) -> Result<Option<PathBuf>>;
+}
