@@ -87,6 +87,20 @@ fn five_centimetres() -> f64 {
 }
 
 impl MotionSection {
+    /// Whether a walk can be steered live ([`crate::run::ScenarioRun::steered`]): a velocity
+    /// walk with no scheduled commands.
+    pub fn check_steerable(&self) -> crate::Result<()> {
+        match self {
+            MotionSection::Velocity(v) if v.commands.is_empty() => Ok(()),
+            MotionSection::Velocity(_) => crate::error::bail!(
+                "motion.commands: a steered walk takes its commands live; remove them"
+            ),
+            _ => crate::error::bail!(
+                "motion: steering needs a velocity walk ([motion] kind = \"velocity\")"
+            ),
+        }
+    }
+
     /// Checks the values; the error names the key.
     pub fn check(&self) -> Result<(), String> {
         match self {
@@ -230,23 +244,19 @@ impl MotionPlan {
         // CoM height above the soles at the handover.
         let com_height = com0.z - (feet0[0].translation.z + feet0[1].translation.z) / 2.0;
         let mut live = None;
+        if steering.is_some() {
+            section.check_steerable()?;
+        }
         let walk = match (&section, steering) {
             (MotionSection::Velocity(v), Some(input)) => {
-                if !v.commands.is_empty() {
-                    crate::error::bail!(
-                        "motion.commands: a steered walk takes its commands live; remove them"
-                    );
-                }
                 let source = Box::new(input);
                 live = Some(LiveWalk::new(
                     robot, source, v.release, &feet0, com_height, dt,
                 )?);
                 None
             }
-            (_, Some(_)) => crate::error::bail!(
-                "motion: steering needs a velocity walk ([motion] kind = \"velocity\")"
-            ),
-            (MotionSection::Walk(w), None) => {
+            // (Steering is None below: the check above refused it for other motions.)
+            (MotionSection::Walk(w), _) => {
                 Some(WalkMotion::new(w, &feet0, &com0, dt, duration, terrain)?)
             }
             (MotionSection::Velocity(v), None) => Some(WalkMotion::velocity(

@@ -116,7 +116,8 @@ impl VelocityGenerator {
         self.produced.saturating_sub(1) as f64 * self.dt
     }
 
-    /// The next sample. On an MPC failure its state does not advance; the next call retries.
+    /// The next sample. On an MPC failure no sample is produced (the MPC keeps its last
+    /// plan, though its command and gait bookkeeping are updated) and the next call retries.
     pub(crate) fn next(&mut self) -> Result<WalkingReference, WalkError> {
         let r = if self.produced == 0 {
             self.mpc.reference()
@@ -200,12 +201,12 @@ impl LiveWalk {
     }
 
     /// Writes the targets at `t` (s after the handover) into `out`. Times go forward: a time
-    /// earlier than the ring holds gets the oldest sample kept.
+    /// earlier than the ring holds gets the earliest sample whose look-ahead is produced.
     pub fn sample(&mut self, t: f64, out: &mut Targets) {
         let n = self.ring.len();
         let wanted = (t.max(0.0) / self.frame.dt).round() as usize;
         self.produce_to(wanted + self.lead);
-        let i = wanted.max(self.count - n + 1);
+        let i = wanted.max(self.count + 1 - n);
         let now = &self.ring[i % n];
         let prev = &self.ring[i.saturating_sub(1) % n];
         let contact = held_contact(now, &self.ring[(i + self.lead) % n]);

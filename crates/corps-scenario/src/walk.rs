@@ -92,17 +92,25 @@ impl WalkSection {
         if !(self.swing_height >= 0.0 && self.swing_height.is_finite()) {
             return Err("motion.swing_height: must be ≥ 0".into());
         }
-        if let Some(r) = self.release {
-            if !(r >= 0.0 && r.is_finite()) {
-                return Err("motion.release: must be ≥ 0".into());
-            }
-        }
+        check_release(self.release)?;
         if let Some(h) = self.com_height {
             if !(h > 0.0 && h.is_finite()) {
                 return Err("motion.com_height: must be positive".into());
             }
         }
         Ok(())
+    }
+}
+
+/// The longest early contact release (s): ten seconds is far beyond any step.
+const MAX_RELEASE: f64 = 10.0;
+
+fn check_release(release: Option<f64>) -> Result<(), String> {
+    match release {
+        Some(r) if !(0.0..=MAX_RELEASE).contains(&r) => Err(format!(
+            "motion.release = {r}: must be between 0 and {MAX_RELEASE} s"
+        )),
+        _ => Ok(()),
     }
 }
 
@@ -124,7 +132,7 @@ pub struct CommandAt {
 #[serde(deny_unknown_fields)]
 pub struct VelocitySection {
     /// `[[motion.commands]]`, in time order; before the first, and after a zero command, the
-    /// robot stands. None for a walk steered live ([`crate::run::ScenarioRun::steered`]).
+    /// robot stands. Empty for a walk steered live ([`crate::run::ScenarioRun::steered`]).
     #[serde(default)]
     pub commands: Vec<CommandAt>,
     /// Early contact release before lift-off (s); default: the double support.
@@ -142,12 +150,7 @@ impl VelocitySection {
             }
             last = c.t;
         }
-        if let Some(r) = self.release {
-            if !(r >= 0.0 && r.is_finite()) {
-                return Err("motion.release: must be ≥ 0".into());
-            }
-        }
-        Ok(())
+        check_release(self.release)
     }
 
     /// The command in force at `t`.

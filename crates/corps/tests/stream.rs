@@ -30,8 +30,7 @@ fn a_viewer_receives_the_session_live() {
             "scenarios/teleop/forward_turn.keys",
             "--duration",
             "4",
-            "--stream",
-            "127.0.0.1:0",
+            "--stream=127.0.0.1:0",
             "-o",
             dir.path().to_str().expect("utf-8"),
         ])
@@ -55,6 +54,12 @@ fn a_viewer_receives_the_session_live() {
                 .to_string();
         }
     };
+    // The rest of stderr, drained so that the command never blocks on it, shown on failure.
+    let rest = std::thread::spawn(move || {
+        let mut text = String::new();
+        let _ = std::io::Read::read_to_string(&mut stderr, &mut text);
+        text
+    });
     // Without the subprotocol: refused.
     assert!(tungstenite::connect(format!("ws://{address}")).is_err());
     let mut request = format!("ws://{address}")
@@ -115,7 +120,8 @@ fn a_viewer_receives_the_session_live() {
         }
     }
     let status = child.wait().expect("corps ends");
-    assert!(status.success());
+    let stderr = rest.join().expect("stderr");
+    assert!(status.success(), "{status}: {stderr}");
     let robot = &received["/robot"];
     assert_eq!(robot.len(), 1, "the robot's shapes, once");
     assert!(!robot[0].1["entities"]

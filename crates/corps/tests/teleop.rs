@@ -175,6 +175,12 @@ fn bad_input_stops_before_the_robot_moves() {
         "steering needs a velocity walk",
         &out_dir,
     );
+    // An address that cannot be listened on.
+    fails_with(
+        &["--keys", ok_keys, "--stream=no-such-host:1", "-o", out],
+        "--stream: listening on no-such-host:1",
+        &out_dir,
+    );
     // Without a script the keyboard is needed: a test's stdin is no terminal.
     fails_with(&["-o", out], "needs a terminal", &out_dir);
 }

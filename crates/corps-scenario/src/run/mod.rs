@@ -136,6 +136,9 @@ impl ScenarioRun {
         let Some(section) = &scenario.controller else {
             bail!("no [controller] section: this is a `corps sim` scenario");
         };
+        if steering.is_some() {
+            scenario.motion.check_steerable()?;
+        }
         let Setup {
             robot,
             criteria,

@@ -31,7 +31,7 @@ pub use corps_scenario::sensor_profile::SensorProfile;
 pub use corps_sim::Overlap;
 
 use crate::output;
-use crate::output::recording::{LiveStream, Recording, RecordingScene, RECORDING_NAME};
+use crate::output::recording::{Recording, RecordingScene, RECORDING_NAME};
 use crate::progress::Progress;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
@@ -125,8 +125,6 @@ pub struct RunOptions {
     pub robot: Option<String>,
     /// Writes `run.mcap` for a 3D viewer (`--record`).
     pub record: bool,
-    /// Streams the run live to Foxglove on this `host:port` (`--stream`).
-    pub stream: Option<String>,
     /// Raised to stop the run at the next tick: it then writes what it has, marked
     /// interrupted (the command's Ctrl-C, [`crate::interrupt`]).
     pub interrupt: Option<&'static AtomicBool>,
@@ -143,7 +141,6 @@ impl RunOptions {
             noise: None,
             robot: None,
             record: false,
-            stream: None,
             interrupt: None,
         }
     }
@@ -164,7 +161,6 @@ impl RunOptions {
             noise: None,
             robot: None,
             record: false,
-            stream: None,
             interrupt: Some(&crate::interrupt::FLAG),
         }
     }
@@ -383,33 +379,9 @@ pub fn run_built(
     } else {
         None
     };
-    let mut live = match &options.stream {
-        Some(address) => {
-            let stream = LiveStream::bind(address)?;
-            eprintln!(
-                "streaming on ws://{} (Foxglove: open connection, Foxglove WebSocket)",
-                stream.address()
-            );
-            let scene = RecordingScene {
-                model: run.model().clone(),
-                feet: run.soles().to_vec(),
-            };
-            Some(Recording::stream(
-                stream,
-                scene,
-                &header,
-                run.dt(),
-                log_every,
-            )?)
-        }
-        None => None,
-    };
     let mut sinks: Vec<&mut dyn RowSink> = vec![&mut sink];
     if let Some(rec) = &mut recording {
         sinks.push(rec);
-    }
-    if let Some(live) = &mut live {
-        sinks.push(live);
     }
     sinks.extend(extra.iter_mut().map(|s| &mut **s as &mut dyn RowSink));
     let result = run.run(&mut sinks).map_err(|e| command_error(e, dir))?;
@@ -427,9 +399,6 @@ pub fn run_built(
             serde_json::to_string_pretty(&m)?.as_bytes(),
         )?,
     ];
-    if let Some(live) = live {
-        live.finish()?;
-    }
     match recording {
         Some(rec) => files.extend(rec.finish()?),
         // No recording of an earlier run stays beside this run's log.

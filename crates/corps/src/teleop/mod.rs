@@ -15,11 +15,13 @@ mod status;
 pub use keys::{parse_script, KeyAction, TimedKey};
 pub use status::{Status, TeleopSink};
 
+use crate::output::recording::{LiveStream, Recording, RecordingScene};
 use crate::run::{library_options, run_built, RunOptions, RunReport};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
+use corps_loop::verdict::Verdict;
 use corps_scenario::overrides::Overrides;
-use corps_scenario::run::ScenarioRun;
+use corps_scenario::run::{RowSink, ScenarioRun};
 use corps_scenario::scenario::Scenario;
 use corps_scenario::teleop::{PadSettings, VelocityPad};
 use corps_scenario::velocity_walk::LiveVelocity;
@@ -57,10 +59,16 @@ pub struct TeleopArgs {
     /// Also write `run.mcap` for the 3D viewer (Foxglove).
     #[arg(long)]
     record: bool,
-    /// Stream the session live to Foxglove on HOST:PORT (default 127.0.0.1:8765; open a
-    /// "Foxglove WebSocket" connection to ws://HOST:PORT). A key script then plays in real
-    /// time.
-    #[arg(long, value_name = "HOST:PORT", num_args = 0..=1, default_missing_value = "127.0.0.1:8765")]
+    /// Stream the session live to Foxglove: `--stream` on 127.0.0.1:8765, `--stream=HOST:PORT`
+    /// elsewhere (open a "Foxglove WebSocket" connection to ws://HOST:PORT). A key script
+    /// then plays in real time.
+    #[arg(
+        long,
+        value_name = "HOST:PORT",
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "127.0.0.1:8765"
+    )]
     stream: Option<String>,
 }
 
@@ -85,23 +93,30 @@ pub fn run(args: TeleopArgs) -> Result<()> {
             "teleoperation needs a terminal for the keyboard; give --keys FILE to run a key script"
         );
     }
+    // Listening first: a taken or malformed address fails before the robot moves.
+    let stream = args.stream.as_deref().map(LiveStream::bind).transpose()?;
+    if let Some(s) = &stream {
+        eprintln!(
+            "streaming on ws://{} (Foxglove: open connection, Foxglove WebSocket)",
+            s.address()
+        );
+    }
     let mut options = RunOptions::interactive();
     options.robot = args.robot.clone();
     options.record = args.record;
-    options.stream = args.stream.clone();
     // The display replaces the progress bar; a script run shows the bar.
     options.progress = script.is_some();
-    let report = teleoperate(
-        &text,
-        &path,
-        args.output.as_deref(),
-        args.duration,
-        options,
+    let session = Session {
+        output: args.output.as_deref(),
+        duration: args.duration,
         script,
-    )?;
+        stream,
+    };
+    let report = teleoperate(&text, &path, options, session)?;
     print_report(&report)?;
-    // Quitting is how a session ends: not an error. A fall is.
-    if report.run.metrics.interrupted_at.is_none() {
+    // Quitting is how a session ends: not an error. A fall is, quit or not.
+    let m = &report.run.metrics;
+    if m.interrupted_at.is_none() || m.verdict.verdict != Verdict::Completed {
         report.run.check_expected()?;
     }
     Ok(())
@@ -112,7 +127,10 @@ fn print_report(report: &TeleopReport) -> Result<()> {
     let m = &report.run.metrics;
     let (distance, heading) = s.travelled();
     let ended = match m.interrupted_at {
-        Some(t) => format!("stopped by the operator at t = {t:.2} s"),
+        Some(t) => format!(
+            "stopped by the operator at t = {t:.2} s; verdict {}",
+            m.verdict
+        ),
         None => format!("{}", m.verdict),
     };
     let mut text = format!(
@@ -140,16 +158,32 @@ fn print_report(report: &TeleopReport) -> Result<()> {
     crate::stdout::print(&text)
 }
 
-/// Runs the teleoperation of scenario `text` (read from `path`): keys from `script` (headless,
-/// unpaced), else from the keyboard with the display (real time).
+/// What a session takes besides its scenario.
+pub struct Session<'a> {
+    /// Replaces the output directory.
+    pub output: Option<&'a Path>,
+    /// Replaces the scenario's duration (s).
+    pub duration: Option<f64>,
+    /// Keys from a script (headless, unpaced unless streamed) instead of the keyboard.
+    pub script: Option<Vec<TimedKey>>,
+    /// Streams the session live to viewers.
+    pub stream: Option<LiveStream>,
+}
+
+/// Runs the teleoperation of scenario `text` (read from `path`): keys from the session's
+/// script, else from the keyboard with the display (real time).
 pub fn teleoperate(
     text: &str,
     path: &Path,
-    output: Option<&Path>,
-    duration: Option<f64>,
     options: RunOptions,
-    script: Option<Vec<TimedKey>>,
+    session: Session<'_>,
 ) -> Result<TeleopReport> {
+    let Session {
+        output,
+        duration,
+        script,
+        stream,
+    } = session;
     let overrides = Overrides {
         duration,
         robot: options.robot.clone(),
@@ -163,18 +197,20 @@ pub fn teleoperate(
         .or_else(|| scenario.output.directory.clone())
         .unwrap_or_else(|| PathBuf::from("out").join(&name));
     let input = LiveVelocity::new();
+    // The keys' quit stops the run: the run watches the flag they raise.
+    let quit = options.interrupt.unwrap_or(&crate::interrupt::FLAG);
     let run_options = corps_scenario::run::RunOptions {
         // A fall ends the session (half a second later, for the log to show it).
         stop_after_failure: Some(FALL_GRACE),
+        interrupt: Some(quit),
         ..library_options(&options)
     };
     let run = ScenarioRun::steered(&scenario, &name, base_dir, run_options, input.clone())
         .map_err(|e| anyhow!(e))
         .with_context(|| path.display().to_string())?;
-    let quit = options.interrupt.unwrap_or(&crate::interrupt::FLAG);
     let headless = script.is_some();
     // A streamed script plays in real time, for the viewer to show it as it happens.
-    let realtime = !headless || options.stream.is_some();
+    let realtime = !headless || stream.is_some();
     let pad = VelocityPad::new(PadSettings::default());
     let mut sink = TeleopSink::new(
         run.columns(),
@@ -185,16 +221,38 @@ pub fn teleoperate(
         pad.clone(),
         quit,
     )?;
+    let shared = sink.shared();
+    let mut live = match stream {
+        Some(stream) => {
+            let scene = RecordingScene {
+                model: run.model().clone(),
+                feet: run.soles().to_vec(),
+            };
+            let every = scenario.output.log_every;
+            Some(Recording::stream(
+                stream,
+                scene,
+                run.columns(),
+                run.dt(),
+                every,
+            )?)
+        }
+        None => None,
+    };
+    let mut extra: Vec<&mut dyn RowSink> = vec![&mut sink];
+    if let Some(live) = &mut live {
+        extra.push(live);
+    }
     let report = if headless {
-        run_built(run, &scenario, &dir, options, &mut [&mut sink])
+        run_built(run, &scenario, &dir, options, &mut extra)
     } else {
-        let shared = sink.shared();
         let finished = AtomicBool::new(false);
         std::thread::scope(|scope| {
             let worker = scope.spawn(|| {
-                let r = run_built(run, &scenario, &dir, options, &mut [&mut sink]);
-                finished.store(true, Ordering::SeqCst);
-                r
+                // Raised however the run ends, a panic included, so the display never waits
+                // for a run that is gone.
+                let _done = RaiseOnDrop(&finished);
+                run_built(run, &scenario, &dir, options, &mut extra)
             });
             let shown = screen::show(&name, &shared, &input, pad, quit, &finished);
             if shown.is_err() {
@@ -208,8 +266,20 @@ pub fn teleoperate(
         })
     }
     .with_context(|| path.display().to_string())?;
+    if let Some(live) = live {
+        live.finish()?;
+    }
     Ok(TeleopReport {
         run: report,
         status: sink.finish(),
     })
+}
+
+/// Raises its flag when dropped.
+struct RaiseOnDrop<'a>(&'a AtomicBool);
+
+impl Drop for RaiseOnDrop<'_> {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::SeqCst);
+    }
 }

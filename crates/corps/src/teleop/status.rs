@@ -37,8 +37,9 @@ pub struct Status {
     /// Simulated time since the handover (s).
     pub t: f64,
     pub commanded: VelocityCommand,
-    /// Achieved (v_x, v_y) in the base's heading frame (m/s) and yaw rate (rad/s), averaged
-    /// over [`VELOCITY_WINDOW`].
+    /// Achieved (v_x, v_y) in the base's heading frame (m/s, the heading halfway through the
+    /// window, so that turning shows no sideways speed) and yaw rate (rad/s), averaged over
+    /// [`VELOCITY_WINDOW`].
     pub achieved: [f64; 3],
     /// Touchdowns of either foot since the handover.
     pub steps: usize,
@@ -51,7 +52,8 @@ pub struct Status {
     pub tick_us_max: f64,
     /// Simulated over wall time since the start (1 when paced and keeping up).
     pub realtime_factor: f64,
-    /// Recent (t, commanded v_x, achieved v_x, commanded v_y, achieved v_y), one per 50 ms.
+    /// Recent (t, commanded v_x, achieved v_x, commanded v_y, achieved v_y), one per
+    /// [`PUBLISH_EVERY`] ticks.
     pub history: Vec<[f64; 5]>,
 }
 
@@ -91,8 +93,9 @@ pub struct TeleopSink {
     input: Arc<LiveVelocity>,
     shared: Arc<Mutex<Status>>,
     status: Status,
-    /// Base poses of the last [`VELOCITY_WINDOW`] (a ring, one per tick).
+    /// Base poses of the last [`VELOCITY_WINDOW`] (a ring of `window` entries, one per tick).
     poses: Vec<(f64, Pose)>,
+    window: usize,
     ticks: usize,
     weight: Option<f64>,
     /// Each foot in stance (else swinging), and since when the other state has held.
@@ -108,8 +111,8 @@ pub struct TeleopSink {
     quit: &'static AtomicBool,
 }
 
-/// How often (ticks of 1 ms) the display's copy and history are refreshed.
-const PUBLISH_EVERY: usize = 50;
+/// How often (control ticks) the display's copy and history are refreshed: 20 Hz at 1 kHz.
+pub const PUBLISH_EVERY: usize = 50;
 const HISTORY: usize = 400;
 
 impl TeleopSink {
@@ -146,6 +149,7 @@ impl TeleopSink {
                 ..Default::default()
             },
             poses: Vec::with_capacity(window),
+            window,
             ticks: 0,
             weight: None,
             stance: [true; 2],
@@ -240,7 +244,7 @@ impl RowSink for TeleopSink {
             self.status.turned += wrap(pose.yaw - self.status.pose.yaw);
         }
         self.status.pose = pose;
-        let n = self.poses.capacity();
+        let n = self.window;
         if self.poses.len() < n {
             self.poses.push((t, pose));
         } else {
@@ -253,13 +257,13 @@ impl RowSink for TeleopSink {
         };
         if t > t0 {
             let span = t - t0;
-            let (s, c) = p0.yaw.sin_cos();
+            let turn = wrap(pose.yaw - p0.yaw);
+            let (s, c) = (p0.yaw + 0.5 * turn).sin_cos();
             let (dx, dy) = (pose.x - p0.x, pose.y - p0.y);
-            // In the heading frame of the window's start.
             self.status.achieved = [
                 (c * dx + s * dy) / span,
                 (-s * dx + c * dy) / span,
-                wrap(pose.yaw - p0.yaw) / span,
+                turn / span,
             ];
         }
         self.ticks += 1;

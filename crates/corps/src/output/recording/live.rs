@@ -6,8 +6,8 @@
 //! given to every viewer that subscribes later.
 //!
 //! The control loop never waits for the network: messages go through a bounded queue and
-//! are dropped when it is full (a slow viewer), counted; a viewer too slow to take its frames
-//! loses them.
+//! are dropped, counted, when it is full. Each viewer's unsent frames wait in a buffer of at
+//! most [`VIEWER_BUFFER`] bytes; a viewer too slow to empty it loses the frames beyond.
 
 use super::topics::{Publish, Topic};
 use anyhow::{Context, Result};
@@ -22,12 +22,18 @@ use std::thread::JoinHandle;
 use std::time::Duration;
 use tungstenite::handshake::server::{Callback, ErrorResponse, Request, Response};
 use tungstenite::http::{header::SEC_WEBSOCKET_PROTOCOL, HeaderValue, StatusCode};
+use tungstenite::protocol::WebSocketConfig;
 use tungstenite::{Message, WebSocket};
 
 /// The subprotocol of Foxglove's WebSocket protocol.
 pub const SUBPROTOCOL: &str = "foxglove.websocket.v1";
 /// Messages waiting for the server thread before new ones are dropped.
 const QUEUE: usize = 1024;
+/// A viewer's unsent bytes at most: the robot's shapes (its meshes, a few MB) and some
+/// seconds of the scene.
+pub const VIEWER_BUFFER: usize = 64 << 20;
+/// How long the end of a stream may take to reach a viewer.
+const CLOSE_TIMEOUT: Duration = Duration::from_secs(2);
 
 /// A message for the viewers.
 struct Outgoing {
@@ -144,7 +150,14 @@ fn serve(listener: TcpListener, messages: Receiver<Outgoing>) {
         }
         viewers.retain_mut(|v| v.poll(robot.as_ref()));
     }
+    // The last frames and the close, waited for (each viewer at most CLOSE_TIMEOUT).
     for mut v in viewers {
+        let stream = v.socket.get_mut();
+        if stream.set_nonblocking(false).is_err()
+            || stream.set_write_timeout(Some(CLOSE_TIMEOUT)).is_err()
+        {
+            continue;
+        }
         let _ = v.socket.close(None);
         let _ = v.socket.flush();
     }
@@ -163,7 +176,9 @@ impl Viewer {
     fn open(stream: TcpStream) -> Option<Self> {
         stream.set_nonblocking(false).ok()?;
         stream.set_read_timeout(Some(Duration::from_secs(2))).ok()?;
-        let mut socket = tungstenite::accept_hdr(stream, OffersSubprotocol).ok()?;
+        let config = WebSocketConfig::default().max_write_buffer_size(VIEWER_BUFFER);
+        let mut socket =
+            tungstenite::accept_hdr_with_config(stream, OffersSubprotocol, Some(config)).ok()?;
         socket.get_mut().set_nonblocking(true).ok()?;
         let info = json!({
             "op": "serverInfo", "name": "corps", "capabilities": ["time"],
@@ -193,6 +208,7 @@ impl Viewer {
             Ok(()) => {}
             // A full buffer (a slow viewer) drops the frame; the connection stays.
             Err(tungstenite::Error::WriteBufferFull(_)) => {}
+            // Buffered: sent by a later flush.
             Err(tungstenite::Error::Io(e)) if e.kind() == ErrorKind::WouldBlock => {}
             Err(_) => self.alive = false,
         }
