@@ -2,8 +2,9 @@
 //! the allowed contacts carries the robot, or the CoM drops below a fraction of its initial
 //! height above the support), `diverged` (a non-finite state, a contact force above a
 //! multiple of the body weight, a base faster than a limit) or `controller_failed` (the safe
-//! command held longer than a limit). A divergence ends the run at once; the others are
-//! recorded and the run goes on, so the log shows what followed.
+//! command held longer than a limit), or a task's own failure (`lost_human`: a followed
+//! person out of reach). A divergence ends the run at once; the others are recorded and the
+//! run goes on, so the log shows what followed.
 
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -16,6 +17,8 @@ pub enum Verdict {
     Fell,
     Diverged,
     ControllerFailed,
+    /// The robot fell too far behind the person it follows (co-navigation).
+    LostHuman,
 }
 
 impl Verdict {
@@ -26,6 +29,7 @@ impl Verdict {
             Verdict::Fell => "fell",
             Verdict::Diverged => "diverged",
             Verdict::ControllerFailed => "controller_failed",
+            Verdict::LostHuman => "lost_human",
         }
     }
 }
@@ -188,6 +192,14 @@ impl VerdictObserver {
             self.safe_since = None;
         }
         None
+    }
+
+    /// A task failure seen by the run itself at `t` (a followed person lost, say), unless a
+    /// failure came first.
+    pub fn task_failed(&mut self, verdict: Verdict, t: f64, reason: String) {
+        if self.first.is_none() {
+            self.record(verdict, t, reason);
+        }
     }
 
     /// A divergence seen elsewhere (the plant's own check) at `t`.

@@ -41,8 +41,19 @@ pub struct RecordedFile {
     pub without_heading: Vec<usize>,
 }
 
-/// Reads one file of the data set.
+/// Reads one file of the data set; subjects whose heading row is all zero are left out
+/// (listed in [`RecordedFile::without_heading`]).
 pub fn read(path: &Path) -> Result<RecordedFile, OcpError> {
+    parse(path, false)
+}
+
+/// Reads every subject's walk of one file; where the heading row is all zero, the heading is
+/// the path's own direction (central differences of the positions).
+pub fn read_paths(path: &Path) -> Result<Vec<RecordedWalk>, OcpError> {
+    Ok(parse(path, true)?.walks)
+}
+
+fn parse(path: &Path, every_subject: bool) -> Result<RecordedFile, OcpError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| OcpError::Invalid(format!("{}: {e}", path.display())))?;
     let rows: Vec<Vec<f64>> = text
@@ -88,11 +99,19 @@ pub fn read(path: &Path) -> Result<RecordedFile, OcpError> {
     };
     for (subject, block) in rows.chunks_exact(6).enumerate() {
         let (x, y, vx, vy, theta) = (&block[0], &block[1], &block[2], &block[3], &block[5]);
-        if theta.iter().all(|t| *t == 0.0) {
+        let headingless = theta.iter().all(|t| *t == 0.0);
+        if headingless && !every_subject {
             file.without_heading.push(subject);
             continue;
         }
-        let poses: Vec<[f64; 3]> = (0..columns).map(|k| [x[k], y[k], theta[k]]).collect();
+        let heading = |k: usize| {
+            if !headingless {
+                return theta[k];
+            }
+            let (a, b) = (k.saturating_sub(1), (k + 1).min(columns - 1));
+            (y[b] - y[a]).atan2(x[b] - x[a])
+        };
+        let poses: Vec<[f64; 3]> = (0..columns).map(|k| [x[k], y[k], heading(k)]).collect();
         let mut speeds: Vec<f64> = vx.iter().zip(vy).map(|(a, b)| a.hypot(*b)).collect();
         speeds.sort_by(f64::total_cmp);
         let median = speeds[speeds.len() / 2];

@@ -17,6 +17,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod conav;
 pub mod controller;
 pub mod default_robot;
 pub mod drives;

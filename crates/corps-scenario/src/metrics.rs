@@ -400,6 +400,24 @@ pub struct Metrics {
     /// The controller's own figures of the run (a state machine's cycles, say), with the
     /// documents' beside them.
     pub controller_report: Vec<ReportLine>,
+    /// Walking with a person (co-navigation): how well the robot held its point.
+    #[serde(flatten)]
+    pub conav: Option<ConavMetrics>,
+}
+
+/// How a robot walking with a person did: its CoM against the point it should hold relative
+/// to them, over every tick; its steps (touchdowns of the plan) and the widest sideways one
+/// (the foot's displacement from lift-off to touchdown across the plan's heading).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct ConavMetrics {
+    pub mean_following_error_m: f64,
+    pub max_following_error_m: f64,
+    pub steps: usize,
+    pub max_lateral_step_m: f64,
+    #[serde(skip)]
+    pub(crate) error_sum: f64,
+    #[serde(skip)]
+    pub(crate) ticks: usize,
 }
 
 /// One figure a controller reports about its run.
@@ -492,6 +510,16 @@ impl fmt::Display for Metrics {
             "  mechanical work {:.1} J (positive {:.1} J)",
             self.work, self.positive_work
         )?;
+        if let Some(c) = &self.conav {
+            writeln!(
+                f,
+                "  with the person: following error mean {:.1} mm, max {:.1} mm; {} steps, widest sideways {:.1} mm",
+                c.mean_following_error_m * 1e3,
+                c.max_following_error_m * 1e3,
+                c.steps,
+                c.max_lateral_step_m * 1e3
+            )?;
+        }
         if let Some(w) = &self.walk {
             writeln!(
                 f,

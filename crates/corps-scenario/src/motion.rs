@@ -5,7 +5,7 @@
 use crate::error::Context;
 use crate::targets::positive;
 pub use crate::targets::{FootTarget, PostureWave, Side, Targets};
-use crate::velocity_walk::{LiveVelocity, LiveWalk};
+use crate::velocity_walk::{LiveWalk, VelocitySource};
 use crate::walk::{VelocitySection, WalkMotion, WalkSection};
 use corps_control::tasks::Reference;
 use corps_control::trajectories::{MinJerk, Sampled, Sinusoid};
@@ -217,7 +217,7 @@ impl MotionPlan {
         timeline: Timeline,
         base_dir: &std::path::Path,
         terrain: &Terrain,
-        steering: Option<std::sync::Arc<LiveVelocity>>,
+        steering: Option<Box<dyn VelocitySource>>,
     ) -> crate::Result<Self> {
         let Timeline { dt, duration } = timeline;
         let Handover {
@@ -248,8 +248,7 @@ impl MotionPlan {
             section.check_steerable()?;
         }
         let walk = match (&section, steering) {
-            (MotionSection::Velocity(v), Some(input)) => {
-                let source = Box::new(input);
+            (MotionSection::Velocity(v), Some(source)) => {
                 live = Some(LiveWalk::new(
                     robot, source, v.release, &feet0, com_height, dt,
                 )?);

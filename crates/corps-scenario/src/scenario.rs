@@ -65,6 +65,8 @@ pub struct Scenario {
     pub estimator: crate::estimation::EstimatorSection,
     /// A tool in a hand pressing on a block (`corps run`, torque-mode TSID).
     pub press: Option<crate::press::PressSection>,
+    /// A person the robot walks with (`corps run`, a velocity walk): co-navigation.
+    pub human: Option<crate::conav::HumanSection>,
 }
 
 fn completed() -> Verdict {
@@ -321,6 +323,9 @@ impl Scenario {
         self.motion.check()?;
         if let Some(p) = &self.press {
             p.check()?;
+        }
+        if let Some(h) = &self.human {
+            h.check()?;
         }
         if let Some(name) = &self.name {
             if name.is_empty() || name.contains(['/', '\\']) || name == "." || name == ".." {

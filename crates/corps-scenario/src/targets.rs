@@ -62,6 +62,18 @@ pub struct Targets {
     pub com_correction: [[f64; 2]; 2],
     /// A joint motion added to the posture reference (None: hold the starting posture).
     pub posture: Option<PostureWave>,
+    /// A person the robot follows, and where it should be relative to them (co-navigation).
+    pub follow: Option<FollowTarget>,
+}
+
+/// Where a following robot should be: the person's position and the point the robot's CoM
+/// should hold relative to them (world x, y), and the distance from that point beyond which
+/// the person is lost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FollowTarget {
+    pub person: [f64; 2],
+    pub point: [f64; 2],
+    pub lost_beyond: f64,
 }
 
 /// A posture reference `q* = q₀ + a s(t)`: per-actuated-joint amplitudes `a` (rad, zero for
@@ -91,6 +103,7 @@ impl Targets {
             waist_yaw: 0.0,
             com_correction: [[0.0; 2]; 2],
             posture: None,
+            follow: None,
         }
     }
 

@@ -9,7 +9,7 @@
 //! the samples equal those [`crate::walk::WalkMotion::velocity`] precomputes.
 
 use crate::error::{invalid, Context, Result};
-use crate::targets::Targets;
+use crate::targets::{FollowTarget, Targets};
 use crate::walk::{held_contact, lead_samples, PlanFrame, VelocitySection};
 use corps_model::spatial::Se3;
 use corps_walk::mpc::{MpcParams, VelocityCommand, WalkingMpc};
@@ -17,13 +17,19 @@ use corps_walk::{Lipm, WalkError, WalkingReference};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
-/// Gives the velocity command in force at a plan time (s after the handover).
+/// Gives the velocity command in force at a plan time (s after the handover), knowing the
+/// plan so far (`plan`: its last sample, in the plan's frame).
 pub trait VelocitySource: Send {
-    fn command(&self, t: f64) -> VelocityCommand;
+    fn command(&mut self, t: f64, plan: &WalkingReference) -> VelocityCommand;
+
+    /// Whom the robot follows at `t`, if anyone (co-navigation).
+    fn follow(&self, _t: f64) -> Option<FollowTarget> {
+        None
+    }
 }
 
 impl VelocitySource for VelocitySection {
-    fn command(&self, t: f64) -> VelocityCommand {
+    fn command(&mut self, t: f64, _plan: &WalkingReference) -> VelocityCommand {
         self.at(t)
     }
 }
@@ -62,7 +68,7 @@ impl LiveVelocity {
 }
 
 impl VelocitySource for Arc<LiveVelocity> {
-    fn command(&self, _t: f64) -> VelocityCommand {
+    fn command(&mut self, _t: f64, _plan: &WalkingReference) -> VelocityCommand {
         self.get()
     }
 }
@@ -74,6 +80,8 @@ pub(crate) struct VelocityGenerator {
     source: Box<dyn VelocitySource>,
     produced: usize,
     dt: f64,
+    /// The last sample produced.
+    last: WalkingReference,
 }
 
 impl VelocityGenerator {
@@ -98,11 +106,13 @@ impl VelocityGenerator {
             ..settings
         };
         let mpc = WalkingMpc::new(params, 0.0, 0.0, 0.0).context("motion: MPC")?;
+        let last = mpc.reference();
         Ok(Self {
             mpc,
             source,
             produced: 0,
             dt,
+            last,
         })
     }
 
@@ -122,9 +132,11 @@ impl VelocityGenerator {
         let r = if self.produced == 0 {
             self.mpc.reference()
         } else {
-            self.mpc.tick(self.source.command(self.next_time()))?
+            let command = self.source.command(self.next_time(), &self.last);
+            self.mpc.tick(command)?
         };
         self.produced += 1;
+        self.last = r;
         Ok(r)
     }
 }
@@ -211,5 +223,6 @@ impl LiveWalk {
         let prev = &self.ring[i.saturating_sub(1) % n];
         let contact = held_contact(now, &self.ring[(i + self.lead) % n]);
         self.frame.write(now, prev, contact, [[0.0; 2]; 2], out);
+        out.follow = self.generator.source.follow(t);
     }
 }

@@ -56,6 +56,16 @@ pub fn log_columns(stabilized: bool) -> Vec<String> {
     header
 }
 
+/// The columns of a run with a person (co-navigation), after the stabilizer's: the person's
+/// position, the point the robot should hold (world x, y) and the CoM's distance from it.
+pub const FOLLOW_COLUMNS: [&str; 5] = [
+    "human_x",
+    "human_y",
+    "follow_x",
+    "follow_y",
+    "follow_error_m",
+];
+
 /// Appends the stabilizer's signals of one tick to `row` (NaN where it failed or a foot is
 /// unloaded), in [`log_columns`]' order.
 pub(crate) fn push_stabilizer(

@@ -12,6 +12,7 @@ mod recorder;
 
 pub use columns::log_columns;
 
+use crate::conav::CoNavigation;
 use crate::controller::{
     self, behind_stabilizer, ControllerKind, IkController, ScenarioController,
 };
@@ -24,6 +25,7 @@ use crate::motion::{self, MotionPlan, MotionSection};
 use crate::scenario::Scenario;
 use crate::series::PlotBuffer;
 use crate::setup::{self, Setup};
+use crate::velocity_walk::VelocitySource;
 use crate::{dynamic_filter, ScenarioError};
 use corps_estimation::KinematicEstimator;
 use corps_loop::verdict::VerdictObserver;
@@ -115,14 +117,18 @@ impl ScenarioRun {
 
     /// As [`ScenarioRun::new`], the scenario's velocity walk (`[motion] kind = "velocity"`,
     /// no `commands`) taking its command from `steering` as the run goes: an operator's
-    /// keyboard or joystick sets it from another thread ([`crate::teleop`]).
+    /// keyboard or joystick setting a [`crate::velocity_walk::LiveVelocity`] from another
+    /// thread ([`crate::teleop`]), or any other source.
     pub fn steered(
         scenario: &Scenario,
         name: &str,
         base_dir: &Path,
         options: RunOptions,
-        steering: std::sync::Arc<crate::velocity_walk::LiveVelocity>,
+        steering: Box<dyn VelocitySource>,
     ) -> Result<Self> {
+        if scenario.human.is_some() {
+            bail!("human: a walk with a person takes its commands from them, not from steering");
+        }
         Self::build(scenario, name, base_dir, options, Some(steering))
     }
 
@@ -131,13 +137,18 @@ impl ScenarioRun {
         name: &str,
         base_dir: &Path,
         options: RunOptions,
-        steering: Option<std::sync::Arc<crate::velocity_walk::LiveVelocity>>,
+        mut steering: Option<Box<dyn VelocitySource>>,
     ) -> Result<Self> {
         let Some(section) = &scenario.controller else {
             bail!("no [controller] section: this is a `corps sim` scenario");
         };
-        if steering.is_some() {
+        if steering.is_some() || scenario.human.is_some() {
             scenario.motion.check_steerable()?;
+        }
+        // The person's walk, read before the robot moves.
+        if let Some(h) = &scenario.human {
+            h.check().map_err(|e| invalid!("{e}"))?;
+            h.walk(base_dir)?;
         }
         let Setup {
             robot,
@@ -287,6 +298,11 @@ impl ScenarioRun {
             frame_placement(model_ref, data, soles[1])?,
         ];
         let ticks = (scenario.duration / dt).round() as usize;
+        if let Some(h) = &scenario.human {
+            let mid = (feet0[0].translation + feet0[1].translation) / 2.0;
+            steering = Some(Box::new(CoNavigation::new(h, base_dir, [mid.x, mid.y])?));
+        }
+        let following = scenario.human.is_some();
         let mut plan = MotionPlan::new(
             &robot,
             scenario.motion.clone(),
@@ -339,6 +355,9 @@ impl ScenarioRun {
             VerdictObserver::new(criteria, mass * GRAVITY, com0.z - recorder::support(&feet0))
                 .context("verdict")?;
         let mut columns = log_columns(stabilized);
+        if following {
+            columns.extend(columns::FOLLOW_COLUMNS.map(String::from));
+        }
         columns.extend(inner.channels().iter().map(|c| c.to_string()));
         let base0 = Vector3::new(q[0], q[1], q[2]);
         let current = plan.initial_targets();
@@ -367,6 +386,7 @@ impl ScenarioRun {
                 dt,
                 columns: columns.len(),
                 stop_after_failure: options.stop_after_failure,
+                following,
             },
             metrics,
             verdict,

@@ -11,7 +11,7 @@ use crate::metrics::{Metrics, TickTimer};
 use crate::series::PlotBuffer;
 use crate::targets::Targets;
 use crate::ScenarioError;
-use corps_loop::verdict::{TickSample, VerdictObserver};
+use corps_loop::verdict::{TickSample, Verdict, VerdictObserver};
 use corps_loop::{Flow, Observer, Tick, Truth};
 use corps_model::spatial::Se3;
 use corps_model::Model;
@@ -37,6 +37,8 @@ pub(crate) struct RecorderSetup {
     pub columns: usize,
     /// Stop the run this long (s) after its first failure (None: run on to the end).
     pub stop_after_failure: Option<f64>,
+    /// The run follows a person: the follow columns are logged.
+    pub following: bool,
 }
 
 /// Observer of a scenario run.
@@ -55,9 +57,50 @@ pub(crate) struct Recorder<'s, 'k> {
     sinks: &'s mut [&'k mut dyn RowSink],
     contact_start: [Option<Vector3<f64>>; 2],
     row: Vec<f64>,
+    /// Each foot's planned position at its last lift-off, while it swings.
+    lift_off: [Option<Vector3<f64>>; 2],
 }
 
 impl<'s, 'k> Recorder<'s, 'k> {
+    /// The follow columns and figures of a run with a person; the reason when the person is
+    /// lost (the CoM farther than allowed from its point).
+    fn follow(&mut self, truth: &Truth, targets: &Targets) -> Option<String> {
+        let Some(f) = targets.follow else {
+            self.row.extend([f64::NAN; 5]);
+            return None;
+        };
+        let error = (truth.com.x - f.point[0]).hypot(truth.com.y - f.point[1]);
+        self.row
+            .extend([f.person[0], f.person[1], f.point[0], f.point[1], error]);
+        let c = self.metrics.conav.get_or_insert_with(Default::default);
+        c.error_sum += error;
+        c.ticks += 1;
+        c.mean_following_error_m = c.error_sum / c.ticks as f64;
+        c.max_following_error_m = c.max_following_error_m.max(error);
+        // Steps of the plan: each foot's lift-off and touchdown; sideways across the heading.
+        let (sin, cos) = targets.waist_yaw.sin_cos();
+        for (k, foot) in targets.feet.iter().enumerate() {
+            let at = foot.reference.placement.translation;
+            match (self.lift_off[k], foot.supporting) {
+                (None, false) => self.lift_off[k] = Some(at),
+                (Some(start), true) => {
+                    let d = at - start;
+                    let sideways = (-sin * d.x + cos * d.y).abs();
+                    c.steps += 1;
+                    c.max_lateral_step_m = c.max_lateral_step_m.max(sideways);
+                    self.lift_off[k] = None;
+                }
+                _ => {}
+            }
+        }
+        (error > f.lost_beyond).then(|| {
+            format!(
+                "the CoM {error:.2} m from the point it holds by the person (lost beyond {} m)",
+                f.lost_beyond
+            )
+        })
+    }
+
     pub(crate) fn new(
         setup: RecorderSetup,
         metrics: Metrics,
@@ -78,6 +121,7 @@ impl<'s, 'k> Recorder<'s, 'k> {
             sink_error: None,
             sinks,
             contact_start: [None, None],
+            lift_off: [None, None],
             row: Vec::with_capacity(columns),
         }
     }
@@ -171,6 +215,10 @@ impl Observer<ScenarioController> for Recorder<'_, '_> {
         if s.stabilized {
             push_stabilizer(&mut self.row, tick.controller.stabilizer_output(), &contact);
         }
+        let mut lost = None;
+        if s.following {
+            lost = self.follow(truth, targets);
+        }
         tick.controller.push_channels(&mut self.row);
         self.series.push(&self.row);
         for sink in self.sinks.iter_mut() {
@@ -192,6 +240,10 @@ impl Observer<ScenarioController> for Recorder<'_, '_> {
             safe_command: tick.fallback.is_some(),
         };
         if self.verdict.observe(&sample).is_some() {
+            return Flow::Stop;
+        }
+        if let Some(reason) = lost {
+            self.verdict.task_failed(Verdict::LostHuman, t, reason);
             return Flow::Stop;
         }
         let failed_at = self.verdict.failure().and_then(|f| f.t);

@@ -24,6 +24,8 @@ pub const PLOT_FILES: &[&str] = &[
     "cop.png",
     "contact_forces.png",
     "joint_torques.png",
+    "following.png",
+    "paths.png",
 ];
 
 /// Removes from `dir` the figures of [`PLOT_FILES`] that are not among `written`.

@@ -20,6 +20,7 @@
 //! ```
 
 mod plots;
+mod top_view;
 
 pub use corps_scenario::controller::{ControllerKind, ControllerSection, MAX_SETTLE};
 pub use corps_scenario::estimation::{EstimatorKind, EstimatorSection};

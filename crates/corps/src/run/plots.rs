@@ -2,7 +2,8 @@
 //! heights and vertical forces, base position, controller time per tick; with a stabilizer,
 //! the ankle admittance's offsets and rates and each foot's CoP against its target; with an
 //! energy tank, its energy, its valves and the power bound (seed 000 §4.5's figures); with a
-//! stepping state machine, its state and the feet's desired and measured forces.
+//! stepping state machine, its state and the feet's desired and measured forces; with a person
+//! to walk with, the following error and a top view of the paths (`top_view`).
 
 use crate::sim_cmd::plots::{draw_figures, Figure, Panel};
 use anyhow::{anyhow, Result};
@@ -258,5 +259,65 @@ pub fn write(
             1,
         );
     }
-    draw_figures(t, &figures)
+    // Walking with a person: the following error over time, and a top view of the paths.
+    let mut written = Vec::new();
+    if header.iter().any(|h| h == "follow_error_m") {
+        let panels = vec![
+            Panel::new(
+                "CoM distance from the point to hold",
+                "m",
+                vec![("following error".into(), column("follow_error_m")?)],
+            ),
+            Panel::new(
+                "x",
+                "m",
+                vec![
+                    ("person".into(), column("human_x")?),
+                    ("point to hold".into(), column("follow_x")?),
+                    ("CoM".into(), com[0]),
+                ],
+            ),
+            Panel::new(
+                "y",
+                "m",
+                vec![
+                    ("person".into(), column("human_y")?),
+                    ("point to hold".into(), column("follow_y")?),
+                    ("CoM".into(), com[1]),
+                ],
+            ),
+        ];
+        figure(
+            "following.png",
+            format!("{title}: with the person"),
+            panels,
+            1,
+        );
+        let top = dir.join("paths.png");
+        super::top_view::draw(
+            &top,
+            &format!("{title}: paths seen from above (dots: start)"),
+            &[
+                super::top_view::TopPath {
+                    label: "person",
+                    x: column("human_x")?,
+                    y: column("human_y")?,
+                },
+                super::top_view::TopPath {
+                    label: "point to hold",
+                    x: column("follow_x")?,
+                    y: column("follow_y")?,
+                },
+                super::top_view::TopPath {
+                    label: "robot CoM",
+                    x: com[0],
+                    y: com[1],
+                },
+            ],
+        )?;
+        written.push(top);
+    }
+    let mut files = draw_figures(t, &figures)?;
+    files.extend(written);
+    Ok(files)
 }

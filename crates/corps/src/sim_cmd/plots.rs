@@ -234,7 +234,7 @@ pub(crate) fn draw_figures(t: &[f64], figures: &[Figure<'_>]) -> Result<Vec<Path
     Ok(figures.iter().map(|f| f.path.clone()).collect())
 }
 
-fn register_font() {
+pub(crate) fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // The font is embedded and known to parse (tested); a failure would only lose text.

@@ -205,7 +205,8 @@ pub fn teleoperate(
         interrupt: Some(quit),
         ..library_options(&options)
     };
-    let run = ScenarioRun::steered(&scenario, &name, base_dir, run_options, input.clone())
+    let steering = Box::new(input.clone());
+    let run = ScenarioRun::steered(&scenario, &name, base_dir, run_options, steering)
         .map_err(|e| anyhow!(e))
         .with_context(|| path.display().to_string())?;
     let headless = script.is_some();
