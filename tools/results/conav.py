@@ -92,6 +92,8 @@ def main():
                 text = re.sub(r'(?m)^subject = .*$', f"subject = {subject}", text)
                 text = re.sub(r'(?m)^mode = .*$', f'mode = "{mode}"', text)
                 text = re.sub(r'(?m)^rate = .*$', f"rate = {args.rate}", text)
+                # The campaign reads the metrics only: no figures.
+                text = text.replace("[output]\n", "[output]\nplots = false\n", 1)
                 for kv in args.set:
                     text = text.replace("[controller.set]\n", f"[controller.set]\n{kv}\n", 1)
                 jobs.append((f"{mode}_{f.stem}_{subject}", text, duration, mode, f.stem, subject, length, turn))

@@ -8,8 +8,8 @@ corps=${1:-./target/release/corps}
 cat tools/results/conav.md
 echo
 python3 tools/results/conav.py --corps "$corps" --rate 0.25
-echo
-echo "At the person's own pace (\`rate = 1\`):"
-echo
-python3 tools/results/conav.py --corps "$corps" --rate 1.0
 cat tools/results/conav_findings.md
+echo
+echo "At the person's own pace (\`rate = 1\`), the first ten walks in file order (30 runs):"
+echo
+python3 tools/results/conav.py --corps "$corps" --rate 1.0 --limit 10

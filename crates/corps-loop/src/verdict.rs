@@ -3,8 +3,8 @@
 //! height above the support), `diverged` (a non-finite state, a contact force above a
 //! multiple of the body weight, a base faster than a limit) or `controller_failed` (the safe
 //! command held longer than a limit), or a task's own failure (`lost_human`: a followed
-//! person out of reach). A divergence ends the run at once; the others are recorded and the
-//! run goes on, so the log shows what followed.
+//! person out of reach). A divergence ends the run at once, and so does a lost person; the
+//! others are recorded and the run goes on, so the log shows what followed.
 
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -17,7 +17,7 @@ pub enum Verdict {
     Fell,
     Diverged,
     ControllerFailed,
-    /// The robot fell too far behind the person it follows (co-navigation).
+    /// The robot got too far from the point it holds by a person (co-navigation).
     LostHuman,
 }
 

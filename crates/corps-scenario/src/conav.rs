@@ -17,8 +17,8 @@
 //! `replan` s from the last `window` observed samples, the walk's end as the goal), `p*` the
 //! point to hold, `m_plan` the plan's feet midpoint (free of the CoM's sway) and `ψ_plan` its
 //! waist yaw, `ψ*` the person's
-//! heading (the direction of their motion). Before the first prediction and after the
-//! person's arrival, the person's observed velocity replaces the prediction's.
+//! heading (the direction of their motion). Before the first prediction, after a failed one
+//! and after the person's arrival, the velocity observed by then replaces the prediction's.
 
 use crate::error::{invalid, Result};
 use crate::targets::FollowTarget;
@@ -94,7 +94,7 @@ fn lost() -> f64 {
 
 /// Feedback gains of the command: position (1/s) and heading (1/s), and the prediction's
 /// look-ahead (s): the MPC answers a velocity within about one step.
-const K_POSITION: f64 = 0.5;
+const K_POSITION: f64 = 1.0;
 const K_HEADING: f64 = 0.5;
 const LOOK_AHEAD: f64 = 0.5;
 /// The yaw rate's bound (rad/s): the teleoperation's.
@@ -154,6 +154,10 @@ fn wrap(a: f64) -> f64 {
 pub struct Person {
     /// Positions (plan x, y) every `dt` of the run's time from `start`.
     path: Vec<[f64; 2]>,
+    /// The direction the person faces at each sample (plan): their motion's over the last
+    /// quarter second of recorded walk, kept while they move less than 5 cm in it (slowing
+    /// at the end, standing); before they have moved, their first direction.
+    headings: Vec<f64>,
     /// The recorded poses (data frame) and their recorded period.
     recorded: RecordedWalk,
     dt: f64,
@@ -168,16 +172,24 @@ impl Person {
     /// `robot0` facing +x, is at its point relative to the person.
     pub fn new(section: &HumanSection, walk: RecordedWalk, robot0: [f64; 2]) -> Self {
         let p = &walk.poses;
-        let ahead = (section.window.min(p.len() - 1)).max(1);
-        let heading0 = (p[ahead][1] - p[0][1]).atan2(p[ahead][0] - p[0][0]);
+        // The first direction: over the first `window` samples (as the predictor's).
+        let heading0 = match p.len() {
+            0 | 1 => 0.0,
+            n => {
+                let ahead = section.window.clamp(1, n - 1);
+                (p[ahead][1] - p[0][1]).atan2(p[ahead][0] - p[0][0])
+            }
+        };
         let angle = -heading0;
         let offset0 = offset(section.mode, section.distance, 0.0);
         let person0 = [robot0[0] - offset0[0], robot0[1] - offset0[1]];
         let (s, c) = angle.sin_cos();
-        let rotated0 = [c * p[0][0] - s * p[0][1], s * p[0][0] + c * p[0][1]];
+        let first = p.first().copied().unwrap_or([0.0; 3]);
+        let rotated0 = [c * first[0] - s * first[1], s * first[0] + c * first[1]];
         let shift = [person0[0] - rotated0[0], person0[1] - rotated0[1]];
         let mut person = Self {
             path: Vec::new(),
+            headings: Vec::new(),
             dt: walk.dt / section.rate,
             recorded: walk,
             start: section.start,
@@ -186,6 +198,20 @@ impl Person {
         };
         person.path = (person.recorded.poses.iter())
             .map(|q| person.to_plan([q[0], q[1]]))
+            .collect();
+        if person.path.is_empty() {
+            person.path.push(robot0);
+        }
+        let back = ((0.25 / person.recorded.dt).round() as usize).max(1);
+        let mut heading = 0.0;
+        person.headings = (0..person.path.len())
+            .map(|k| {
+                let (a, b) = (person.path[k.saturating_sub(back)], person.path[k]);
+                if (b[0] - a[0]).hypot(b[1] - a[1]) >= 0.05 {
+                    heading = (b[1] - a[1]).atan2(b[0] - a[0]);
+                }
+                heading
+            })
             .collect();
         person
     }
@@ -219,37 +245,26 @@ impl Person {
         [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])]
     }
 
-    /// Velocity (plan, m/s of run time) over the quarter second of recorded walk around `t`:
-    /// the gait's sway averages out. Zero before the start and after the arrival.
-    pub fn velocity(&self, t: f64) -> [f64; 2] {
+    /// Velocity (plan, m/s of run time) over the last quarter second of recorded walk
+    /// before `t`: what has been seen by then, the gait's sway averaged out. Zero before the
+    /// start and after the arrival.
+    pub fn observed_velocity(&self, t: f64) -> [f64; 2] {
         if t < self.start || t >= self.arrival() {
             return [0.0; 2];
         }
-        let half = 0.125 / self.recorded.dt * self.dt;
-        let (a, b) = (self.position(t - half), self.position(t + half));
-        let span = (self.index(t + half) - self.index(t - half)) * self.dt;
-        if span <= 0.0 {
+        let span = 0.25 / self.recorded.dt * self.dt;
+        let (a, b) = (self.position(t - span), self.position(t));
+        let seen = (self.index(t) - self.index(t - span)) * self.dt;
+        if seen <= 0.0 {
             return [0.0; 2];
         }
-        [(b[0] - a[0]) / span, (b[1] - a[1]) / span]
+        [(b[0] - a[0]) / seen, (b[1] - a[1]) / seen]
     }
 
-    /// The direction the person faces at `t` (plan): their motion's over the last quarter
-    /// second of recorded walk (or since the start); their first heading until they have
-    /// moved 5 cm.
+    /// The direction the person faces at `t` (plan; see `headings`).
     pub fn heading(&self, t: f64) -> f64 {
-        let u = self.index(t);
-        let back = 0.25 / self.recorded.dt;
-        let (a, b) = (
-            self.position(self.start + (u - back).max(0.0) * self.dt),
-            self.position(t),
-        );
-        if (b[0] - a[0]).hypot(b[1] - a[1]) < 0.05 {
-            let p = &self.path;
-            let k = 10.min(p.len() - 1);
-            return (p[k][1] - p[0][1]).atan2(p[k][0] - p[0][0]);
-        }
-        (b[1] - a[1]).atan2(b[0] - a[0])
+        let k = (self.index(t).floor() as usize).min(self.headings.len() - 1);
+        self.headings[k]
     }
 }
 
@@ -274,6 +289,8 @@ pub struct CoNavigation {
     /// recorded time).
     predicted_at: f64,
     prediction: Vec<[f64; 2]>,
+    /// When the last prediction was attempted (run time).
+    last_attempt: f64,
     /// Predictions made and failed.
     pub predictions: usize,
     pub failed_predictions: usize,
@@ -287,12 +304,20 @@ impl CoNavigation {
     pub fn new(section: &HumanSection, base_dir: &Path, origin: [f64; 2]) -> Result<Self> {
         section.check().map_err(|e| invalid!("{e}"))?;
         let walk = section.walk(base_dir)?;
+        if section.window >= walk.poses.len() {
+            return Err(invalid!(
+                "human.window = {}: the walk has {} samples",
+                section.window,
+                walk.poses.len()
+            ));
+        }
         Ok(Self {
             section: section.clone(),
             person: None,
             walk: Some(walk),
             predicted_at: f64::NEG_INFINITY,
             prediction: Vec::new(),
+            last_attempt: f64::NEG_INFINITY,
             predictions: 0,
             failed_predictions: 0,
             origin,
@@ -335,16 +360,18 @@ impl CoNavigation {
                 self.prediction.clear();
             }
         }
-        self.predicted_at = t;
+        // The prediction's first node is the last observed sample.
+        self.predicted_at = person.start + (observed - 1) as f64 * person.dt;
     }
 
-    /// The person's velocity (plan, run time) expected at `t`: the prediction's, else the
-    /// observed one.
-    fn expected_velocity(&self, t: f64) -> [f64; 2] {
+    /// The person's velocity (plan, run time) expected `LOOK_AHEAD` after `now`: the
+    /// prediction's, else the one observed by `now`.
+    fn expected_velocity(&self, now: f64) -> [f64; 2] {
         let Some(person) = &self.person else {
             return [0.0; 2];
         };
         let p = &self.prediction;
+        let t = now + LOOK_AHEAD;
         if p.len() >= 2 && t < person.arrival() {
             // Prediction nodes are PREDICTION_DT of recorded time apart: `rate` times as long
             // in the run's time.
@@ -355,7 +382,7 @@ impl CoNavigation {
                 (p[k + 1][1] - p[k][1]) / node_dt,
             ];
         }
-        person.velocity(t)
+        person.observed_velocity(now)
     }
 
     /// The point to hold at `t` (plan).
@@ -371,14 +398,15 @@ impl VelocitySource for CoNavigation {
         if self.person(plan).is_none() {
             return VelocityCommand::default();
         }
-        if t - self.predicted_at >= self.section.replan {
+        if t - self.last_attempt >= self.section.replan {
+            self.last_attempt = t;
             self.repredict(t);
         }
         let Some(person) = &self.person else {
             return VelocityCommand::default();
         };
         let target = Self::point(person, &self.section, t);
-        let feedforward = self.expected_velocity(t + LOOK_AHEAD);
+        let feedforward = self.expected_velocity(t);
         // The robot's place: the plan's feet midpoint, which has none of the CoM's sway from
         // foot to foot (fed back, the sway became sideways steps).
         let here = [
@@ -450,7 +478,7 @@ mod tests {
         assert!((p0[0] - 0.4).abs() < 1e-12 && p0[1].abs() < 1e-12, "{p0:?}");
         // Half the recorded pace: 1 m/s becomes 0.5 m/s, the 2 s walk 4 s from t = 1 s.
         assert!((person.arrival() - 5.0).abs() < 1e-12);
-        let v = person.velocity(3.0);
+        let v = person.observed_velocity(3.0);
         assert!((v[0] - 0.5).abs() < 1e-9 && v[1].abs() < 1e-9, "{v:?}");
         assert!(person.heading(3.0).abs() < 1e-9);
         let end = person.position(9.0);

@@ -242,7 +242,8 @@ impl Observer<ScenarioController> for Recorder<'_, '_> {
         if self.verdict.observe(&sample).is_some() {
             return Flow::Stop;
         }
-        if let Some(reason) = lost {
+        // Losing the person ends the run, unless an earlier failure already decides it.
+        if let Some(reason) = lost.filter(|_| self.verdict.failure().is_none()) {
             self.verdict.task_failed(Verdict::LostHuman, t, reason);
             return Flow::Stop;
         }
