@@ -282,15 +282,47 @@ pub fn run_text(
         estimator: options.estimator,
         noise: options.noise.clone(),
     };
-    let scenario = Scenario::parse_with(text, path, &overrides).map_err(|e| anyhow!(e))?;
+    let ParsedRun {
+        scenario,
+        name,
+        base_dir,
+        dir,
+    } = parse_run(text, path, output, &overrides)?;
+    // A context, not a new message, so that the command still sees an `Interrupted`.
+    run_scenario(&scenario, &name, base_dir, &dir, options).with_context(|| shown.to_string())
+}
+
+/// A scenario read for a run.
+pub struct ParsedRun<'a> {
+    pub scenario: Scenario,
+    /// The run's name (the file's, unless the scenario gives one).
+    pub name: String,
+    /// Where the scenario's relative paths resolve from.
+    pub base_dir: &'a Path,
+    /// The output directory: `output`, else `[output] directory`, else `out/<name>`.
+    pub dir: PathBuf,
+}
+
+/// Parses scenario `text`, read from `path`, with `overrides`; `output` replaces its output
+/// directory.
+pub fn parse_run<'a>(
+    text: &str,
+    path: &'a Path,
+    output: Option<&Path>,
+    overrides: &Overrides,
+) -> Result<ParsedRun<'a>> {
+    let scenario = Scenario::parse_with(text, path, overrides).map_err(|e| anyhow!(e))?;
     let name = scenario.run_name(path);
-    let base_dir = path.parent().unwrap_or(Path::new("."));
     let dir = output
         .map(Path::to_path_buf)
         .or_else(|| scenario.output.directory.clone())
         .unwrap_or_else(|| PathBuf::from("out").join(&name));
-    // A context, not a new message, so that the command still sees an `Interrupted`.
-    run_scenario(&scenario, &name, base_dir, &dir, options).with_context(|| shown.to_string())
+    Ok(ParsedRun {
+        scenario,
+        name,
+        base_dir: path.parent().unwrap_or(Path::new(".")),
+        dir,
+    })
 }
 
 /// Streams the rows to the CSV log (every `every`-th) and moves the progress bar.

@@ -16,13 +16,12 @@ pub use keys::{parse_script, KeyAction, TimedKey};
 pub use status::{Status, TeleopSink};
 
 use crate::output::recording::{LiveStream, Recording, RecordingScene};
-use crate::run::{library_options, run_built, RunOptions, RunReport};
+use crate::run::{library_options, parse_run, run_built, ParsedRun, RunOptions, RunReport};
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
 use corps_loop::verdict::Verdict;
 use corps_scenario::overrides::Overrides;
 use corps_scenario::run::{RowSink, ScenarioRun};
-use corps_scenario::scenario::Scenario;
 use corps_scenario::teleop::{PadSettings, VelocityPad};
 use corps_scenario::velocity_walk::LiveVelocity;
 use std::io::IsTerminal;
@@ -189,13 +188,12 @@ pub fn teleoperate(
         robot: options.robot.clone(),
         ..Default::default()
     };
-    let scenario = Scenario::parse_with(text, path, &overrides).map_err(|e| anyhow!(e))?;
-    let name = scenario.run_name(path);
-    let base_dir = path.parent().unwrap_or(Path::new("."));
-    let dir = output
-        .map(Path::to_path_buf)
-        .or_else(|| scenario.output.directory.clone())
-        .unwrap_or_else(|| PathBuf::from("out").join(&name));
+    let ParsedRun {
+        scenario,
+        name,
+        base_dir,
+        dir,
+    } = parse_run(text, path, output, &overrides)?;
     let input = LiveVelocity::new();
     // The keys' quit stops the run: the run watches the flag they raise.
     let quit = options.interrupt.unwrap_or(&crate::interrupt::FLAG);
