@@ -27,9 +27,9 @@ use corps_ocp::human_walk::DT as PREDICTION_DT;
 use corps_ocp::prediction::predict;
 use corps_ocp::recorded_walks::RecordedWalk;
 use corps_walk::mpc::VelocityCommand;
+use corps_walk::pose::wrap_angle;
 use corps_walk::WalkingReference;
 use serde::Deserialize;
-use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
 /// Where the robot walks relative to the person.
@@ -143,10 +143,6 @@ impl HumanSection {
                 )
             })
     }
-}
-
-fn wrap(a: f64) -> f64 {
-    (a + PI).rem_euclid(2.0 * PI) - PI
 }
 
 /// The person's walk laid out in the robot's plan, in the run's time.
@@ -291,17 +287,14 @@ pub struct CoNavigation {
     prediction: Vec<[f64; 2]>,
     /// When the last prediction was attempted (run time).
     last_attempt: f64,
-    /// Predictions made and failed.
-    pub predictions: usize,
-    pub failed_predictions: usize,
     /// The plan-to-world offset (the plan's origin in the world, x and y).
     origin: [f64; 2],
 }
 
 impl CoNavigation {
-    /// The source for `section`, its walk read from `base_dir`; `origin` is the plan's
-    /// origin in the world (x, y).
-    pub fn new(section: &HumanSection, base_dir: &Path, origin: [f64; 2]) -> Result<Self> {
+    /// The source for `section`, its walk read (and checked) from `base_dir`; the plan's
+    /// origin is set by [`CoNavigation::placed_at`] once the robot stands.
+    pub fn new(section: &HumanSection, base_dir: &Path) -> Result<Self> {
         section.check().map_err(|e| invalid!("{e}"))?;
         let walk = section.walk(base_dir)?;
         if section.window >= walk.poses.len() {
@@ -318,10 +311,13 @@ impl CoNavigation {
             predicted_at: f64::NEG_INFINITY,
             prediction: Vec::new(),
             last_attempt: f64::NEG_INFINITY,
-            predictions: 0,
-            failed_predictions: 0,
-            origin,
+            origin: [0.0; 2],
         })
+    }
+
+    /// The source for a plan whose origin is at `origin` in the world (x, y).
+    pub fn placed_at(self, origin: [f64; 2]) -> Self {
+        Self { origin, ..self }
     }
 
     fn person(&mut self, plan: &WalkingReference) -> Option<&Person> {
@@ -346,7 +342,6 @@ impl CoNavigation {
         let end = poses[poses.len() - 1];
         let tail = &poses[poses.len().saturating_sub(w)..];
         let goal_heading = (end[1] - tail[0][1]).atan2(end[0] - tail[0][0]);
-        self.predictions += 1;
         match predict(window, person.recorded.dt, [end[0], end[1], goal_heading]) {
             Ok(p) => {
                 self.prediction = p
@@ -355,10 +350,7 @@ impl CoNavigation {
                     .map(|q| person.to_plan([q[0], q[1]]))
                     .collect();
             }
-            Err(_) => {
-                self.failed_predictions += 1;
-                self.prediction.clear();
-            }
+            Err(_) => self.prediction.clear(),
         }
         // The prediction's first node is the last observed sample.
         self.predicted_at = person.start + (observed - 1) as f64 * person.dt;
@@ -424,7 +416,8 @@ impl VelocitySource for CoNavigation {
         ];
         let yaw = plan.waist_yaw;
         let (s, c) = yaw.sin_cos();
-        let omega = (K_HEADING * wrap(person.heading(t) - yaw)).clamp(-MAX_YAW_RATE, MAX_YAW_RATE);
+        let omega =
+            (K_HEADING * wrap_angle(person.heading(t) - yaw)).clamp(-MAX_YAW_RATE, MAX_YAW_RATE);
         VelocityCommand::new(c * v[0] + s * v[1], -s * v[0] + c * v[1], omega)
     }
 
@@ -444,6 +437,7 @@ impl VelocitySource for CoNavigation {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     fn section(mode: FollowMode) -> HumanSection {
         HumanSection {

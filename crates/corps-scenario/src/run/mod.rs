@@ -145,11 +145,10 @@ impl ScenarioRun {
         if steering.is_some() || scenario.human.is_some() {
             scenario.motion.check_steerable()?;
         }
-        // The person's walk, read before the robot moves.
-        if let Some(h) = &scenario.human {
-            h.check().map_err(|e| invalid!("{e}"))?;
-            h.walk(base_dir)?;
-        }
+        // The person's walk, read and checked before the robot moves.
+        let person = (scenario.human.as_ref())
+            .map(|h| CoNavigation::new(h, base_dir))
+            .transpose()?;
         let Setup {
             robot,
             criteria,
@@ -298,11 +297,11 @@ impl ScenarioRun {
             frame_placement(model_ref, data, soles[1])?,
         ];
         let ticks = (scenario.duration / dt).round() as usize;
-        if let Some(h) = &scenario.human {
+        let following = person.is_some();
+        if let Some(person) = person {
             let mid = (feet0[0].translation + feet0[1].translation) / 2.0;
-            steering = Some(Box::new(CoNavigation::new(h, base_dir, [mid.x, mid.y])?));
+            steering = Some(Box::new(person.placed_at([mid.x, mid.y])));
         }
-        let following = scenario.human.is_some();
         let mut plan = MotionPlan::new(
             &robot,
             scenario.motion.clone(),

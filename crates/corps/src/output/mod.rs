@@ -28,6 +28,14 @@ pub const PLOT_FILES: &[&str] = &[
     "paths.png",
 ];
 
+/// The index of column `name` in a run's log `columns`.
+pub fn column(columns: &[String], name: &str) -> Result<usize> {
+    columns
+        .iter()
+        .position(|c| c == name)
+        .ok_or_else(|| anyhow::anyhow!("the log has no column '{name}'"))
+}
+
 /// Removes from `dir` the figures of [`PLOT_FILES`] that are not among `written`.
 pub fn remove_stale_plots(dir: &Path, written: &[PathBuf]) -> Result<()> {
     for name in PLOT_FILES {

@@ -9,6 +9,7 @@ use corps_scenario::teleop::VelocityPad;
 use corps_scenario::velocity_walk::LiveVelocity;
 use corps_scenario::ScenarioError;
 use corps_walk::mpc::VelocityCommand;
+use corps_walk::pose::wrap_angle;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -63,10 +64,6 @@ impl Status {
         let d = (self.pose.x - self.start.x).hypot(self.pose.y - self.start.y);
         (d, self.turned)
     }
-}
-
-fn wrap(a: f64) -> f64 {
-    (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
 }
 
 /// The planar pose of a free-flyer base from `q` (x, y, z, quaternion x, y, z, w).
@@ -128,12 +125,7 @@ impl TeleopSink {
         pad: VelocityPad,
         quit: &'static AtomicBool,
     ) -> anyhow::Result<Self> {
-        let find = |name: &str| {
-            columns
-                .iter()
-                .position(|c| c == name)
-                .ok_or_else(|| anyhow::anyhow!("the run's log has no column {name}"))
-        };
+        let find = |name: &str| crate::output::column(columns, name);
         let window = (VELOCITY_WINDOW / dt).round() as usize + 1;
         Ok(Self {
             columns: Columns {
@@ -241,7 +233,7 @@ impl RowSink for TeleopSink {
         if self.ticks == 0 {
             self.status.start = pose;
         } else {
-            self.status.turned += wrap(pose.yaw - self.status.pose.yaw);
+            self.status.turned += wrap_angle(pose.yaw - self.status.pose.yaw);
         }
         self.status.pose = pose;
         let n = self.window;
@@ -257,7 +249,7 @@ impl RowSink for TeleopSink {
         };
         if t > t0 {
             let span = t - t0;
-            let turn = wrap(pose.yaw - p0.yaw);
+            let turn = wrap_angle(pose.yaw - p0.yaw);
             let (s, c) = (p0.yaw + 0.5 * turn).sin_cos();
             let (dx, dy) = (pose.x - p0.x, pose.y - p0.y);
             self.status.achieved = [

@@ -101,16 +101,16 @@ impl Publish for LiveStream {
         Ok(())
     }
 
-    fn finish(mut self: Box<Self>) -> Result<Option<PathBuf>> {
-        self.queue = None;
-        if let Some(server) = self.server.take() {
-            let _ = server.join();
-        }
+    /// Closes the connections (by dropping the stream: [`Drop`] ends the server).
+    fn finish(self: Box<Self>) -> Result<Option<PathBuf>> {
+        drop(self);
         Ok(None)
     }
 }
 
 impl Drop for LiveStream {
+    /// Closes the queue, which ends the server thread after it has sent what it holds, and
+    /// waits for it.
     fn drop(&mut self) {
         self.queue = None;
         if let Some(server) = self.server.take() {

@@ -20,7 +20,7 @@ mod topics;
 pub use live::LiveStream;
 use topics::{Publish, Topic};
 
-use anyhow::{anyhow, Context, Result};
+use anyhow::{Context, Result};
 use base64::Engine;
 use corps_loop::Truth;
 use corps_model::spatial::Se3;
@@ -74,13 +74,6 @@ struct Columns {
     foot_fz: Vec<usize>,
 }
 
-fn column(columns: &[String], name: &str) -> Result<usize> {
-    columns
-        .iter()
-        .position(|c| c == name)
-        .ok_or_else(|| anyhow!("the log has no column '{name}' to record"))
-}
-
 impl Recording {
     /// Starts the recording in `dir` for a run with `columns` logged every `log_every` ticks
     /// of `dt` seconds.
@@ -113,7 +106,7 @@ impl Recording {
         dt: f64,
         log_every: usize,
     ) -> Result<Self> {
-        let c = |n: &str| column(columns, n);
+        let c = |n: &str| crate::output::column(columns, n);
         let at = Columns {
             t: c("t")?,
             com: [c("com_x")?, c("com_y")?, c("com_z")?],
