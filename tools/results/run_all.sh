@@ -88,6 +88,7 @@ out=$(mktemp -d)
   python3 tools/results/passive_robustness.py --corps ./target/release/corps
   cat tools/results/human_prediction.md
   bash tools/results/conav.sh ./target/release/corps
+  bash tools/results/hip.sh ./target/release/corps
   bash tools/results/actuators.sh ./target/release/corps
   bash tools/results/icub_stepping.sh ./target/release/corps
   bash tools/results/crossval.sh

@@ -18,6 +18,7 @@
 pub mod contacts;
 mod error;
 pub mod fallback;
+pub mod flexibility;
 pub mod formulation;
 pub mod joint_limits;
 pub mod passivity;

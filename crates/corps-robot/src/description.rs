@@ -86,6 +86,32 @@ pub struct Description {
     /// The joint drives a scenario simulates with `[actuation] drives = true` (absent: ideal
     /// torques only).
     pub drives: Option<DrivesSpec>,
+    /// Elastic joints the robot has but its encoders and its controllers' model do not: the
+    /// simulator's model gets them ([`crate::PlantVariant`]), every controller and estimator
+    /// keeps the rigid one.
+    #[serde(default)]
+    pub passive_joints: Vec<PassiveJointSpec>,
+}
+
+/// A passive spring-damper joint inserted into the URDF's tree for the simulator only:
+/// `τ = −k θ − d θ̇` (seed 000 Eq 6.4), TALOS' flexible hip of seed 000 App. 4.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PassiveJointSpec {
+    /// Its name (no joint of the URDF has it).
+    pub name: String,
+    /// The URDF joint it is inserted before: the passive joint takes that joint's parent link
+    /// and origin, and the joint then hangs from the passive joint's (massless) link.
+    pub before: String,
+    /// Rotation axis in the joint frame (the frame of `before`'s origin).
+    pub axis: [f64; 3],
+    /// `k`, N·m/rad, > 0.
+    pub stiffness: f64,
+    /// `d`, N·m·s/rad, ≥ 0.
+    pub damping: f64,
+    /// The actuated joint of the rigid model that turns about the same axis, whose command a
+    /// controller offsets to compensate the deflection (seed 000 Eq 6.3).
+    pub compensated_by: Option<String>,
 }
 
 /// Flexible joint drives with a current-controlled motor (seed 000 Eq 2.33–2.34), the same

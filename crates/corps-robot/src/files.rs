@@ -5,8 +5,12 @@
 use std::path::{Component, Path, PathBuf};
 
 /// The built-in robots: name and the description's path in [`EMBEDDED`].
-pub const BUILT_IN: [(&str, &str); 4] = [
+pub const BUILT_IN: [(&str, &str); 5] = [
     ("talos", "robots/talos_data/talos.toml"),
+    (
+        "talos_flexible_hip",
+        "robots/talos_data/talos_flexible_hip.toml",
+    ),
     ("icub", "robots/icub_description/icub.toml"),
     (
         "icub_backpacked",
@@ -27,6 +31,7 @@ macro_rules! embed {
 /// Files built into the library, by their path in the repository.
 pub const EMBEDDED: &[(&str, &str)] = embed!(
     "robots/talos_data/talos.toml",
+    "robots/talos_data/talos_flexible_hip.toml",
     "robots/talos_data/robots/talos_reduced_box.urdf",
     "robots/talos_data/srdf/talos.srdf",
     "config/talos/tsid_torque.toml",

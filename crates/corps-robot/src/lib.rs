@@ -4,7 +4,7 @@
 //! lacks, gains files and fall criteria — read from one description file beside the URDF
 //! ([`description`]). Libraries take a [`Robot`]; none holds a robot's constant.
 //!
-//! TALOS, iCub (also with a battery pack) and simple_humanoid are built in ([`files::BUILT_IN`]); another robot is a
+//! TALOS (also with its flexible hip), iCub (also with a battery pack) and simple_humanoid are built in ([`files::BUILT_IN`]); another robot is a
 //! description file, which [`init::draft`] starts from its URDF.
 //!
 //! ```
@@ -18,9 +18,11 @@ pub mod description;
 pub mod fall;
 pub mod files;
 pub mod init;
+mod passive;
 mod robot;
 pub mod toml_text;
 
-pub use description::{Description, DrivesSpec, FootContact, SoleSpec};
+pub use description::{Description, DrivesSpec, FootContact, PassiveJointSpec, SoleSpec};
 pub use fall::{Criteria, CriteriaError};
+pub use passive::{PassiveJoint, PlantVariant};
 pub use robot::{Foot, GainsText, Hand, Robot, RobotError, SOLE_BOX_THICKNESS};

@@ -5,6 +5,7 @@
 use crate::description::{Description, FootContact, SoleSpec};
 use crate::fall::Criteria;
 use crate::files::{FileSource, BUILT_IN};
+use crate::passive::{PassiveJoint, PlantVariant};
 use corps_model::spatial::rotation::rpy_to_matrix;
 use corps_model::spatial::{Inertia, Se3};
 use corps_model::{
@@ -91,6 +92,9 @@ pub struct Robot {
     pub fall: Criteria,
     /// The joint drives of the description, if it gives them.
     pub drives: Option<crate::description::DrivesSpec>,
+    /// The simulator's model when the robot has passive joints its controllers do not model
+    /// (None: the simulator runs [`Robot::model`] too).
+    pub plant: Option<Arc<PlantVariant>>,
 }
 
 impl Robot {
@@ -177,9 +181,55 @@ impl Loader {
         Ok((text, self.source.show(&path)))
     }
 
-    fn load(&self, d: Description) -> Checked<Robot> {
+    fn load(&self, mut d: Description) -> Checked<Robot> {
+        let passive = std::mem::take(&mut d.passive_joints);
         let (urdf, urdf_shown) = self.read("urdf", &d.urdf)?;
-        let mut model = build_model_from_urdf_str(&urdf, RootJoint::FreeFlyer)
+        let mut robot = self.load_urdf(d.clone(), &urdf, &urdf_shown)?;
+        if passive.is_empty() {
+            return Ok(robot);
+        }
+        let mut text = urdf;
+        for (k, p) in passive.iter().enumerate() {
+            let key = format!("passive_joints[{k}]");
+            crate::passive::check_spec(p, &key)?;
+            text = crate::passive::insert(&text, p, &key)?;
+        }
+        let plant = self.load_urdf(d, &text, &format!("{urdf_shown} (with passive joints)"))?;
+        let rigid = &robot.model;
+        let passive = (passive.iter().enumerate())
+            .map(|(k, p)| {
+                let compensated_by = (p.compensated_by.as_ref())
+                    .map(|name| {
+                        rigid
+                            .joint_id(name)
+                            .ok()
+                            .filter(|&j| j > 0 && rigid.joints[j].nv() == 1)
+                            .ok_or_else(|| {
+                                format!(
+                                    "passive_joints[{k}].compensated_by: no one-axis joint '{name}'"
+                                )
+                            })
+                    })
+                    .transpose()?;
+                Ok(PassiveJoint {
+                    name: p.name.clone(),
+                    joint: plant.model.joint_id(&p.name).map_err(|e| e.to_string())?,
+                    stiffness: p.stiffness,
+                    damping: p.damping,
+                    compensated_by,
+                })
+            })
+            .collect::<Checked<Vec<_>>>()?;
+        robot.plant = Some(Arc::new(PlantVariant {
+            model: plant.model,
+            passive,
+        }));
+        Ok(robot)
+    }
+
+    /// The robot of description `d` (without passive joints) on the URDF text `urdf`.
+    fn load_urdf(&self, d: Description, urdf: &str, urdf_shown: &str) -> Checked<Robot> {
+        let mut model = build_model_from_urdf_str(urdf, RootJoint::FreeFlyer)
             .map_err(|e| format!("urdf: {urdf_shown}: {e}"))?;
         let srdf = match &d.srdf {
             Some(srdf) => Some(self.read("srdf", srdf)?),
@@ -209,7 +259,7 @@ impl Loader {
                     Ok((name.clone(), angle))
                 })
                 .collect::<Checked<Vec<_>>>()?;
-            model = build_model_from_urdf_str_locked(&urdf, RootJoint::FreeFlyer, &locked)
+            model = build_model_from_urdf_str_locked(urdf, RootJoint::FreeFlyer, &locked)
                 .map_err(|e| format!("locked_joints: {e}"))?;
             if let Some((text, shown)) = &srdf {
                 corps_model::parse::load_reference_configurations_str(&mut model, text)
@@ -383,6 +433,7 @@ impl Loader {
             gains,
             fall: d.fall,
             drives: d.drives,
+            plant: None,
         })
     }
 }

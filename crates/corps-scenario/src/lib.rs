@@ -27,6 +27,7 @@ pub mod estimation;
 pub mod foot;
 pub mod gains;
 mod gait;
+pub mod identify;
 pub mod metrics;
 pub mod motion;
 pub mod numbers;

@@ -149,6 +149,15 @@ pub struct FootMetrics {
     /// Peak and mean vertical contact force (N).
     pub force_peak: f64,
     pub force_mean: f64,
+    /// Landings: contacts that begin after the plan lifted the foot. The landing error is
+    /// the horizontal distance from the true sole to its planned place when the contact
+    /// begins (m): seed 000 §4.6.1.c's "feet landing up to 5 cm off".
+    pub landings: usize,
+    pub landing_error_mean: f64,
+    pub landing_error_max: f64,
+    /// The plan has lifted this foot since its last landing.
+    #[serde(skip)]
+    pub(crate) swung: bool,
 }
 
 /// The documents' figures for an experiment (`[thesis]` of a scenario), each as
@@ -403,6 +412,53 @@ pub struct Metrics {
     /// Walking with a person (co-navigation): how well the robot held its point.
     #[serde(flatten)]
     pub conav: Option<ConavMetrics>,
+    /// The last [`HOLD_WINDOW`] of the run, the robot standing: the balance the feet's F/T
+    /// sensors measure (seed 000 App. 4's one-leg CoP/CoM test). None if the run failed.
+    pub hold: Option<HoldFigures>,
+}
+
+/// The window of [`HoldFigures`], s: long enough to average a standing robot's sway
+/// (TALOS on its flexible hips sways at about 0.55 Hz) over more than one period.
+pub const HOLD_WINDOW: f64 = 5.0;
+
+/// Means over the last [`HOLD_WINDOW`] of a run: each foot's F/T moment about its sole's x axis
+/// (ground on foot, about the sole origin) while it carries load; the ZMP of the F/T sensors
+/// minus the true CoM's ground projection, and minus the CoM of the state the controller
+/// works on (world x, y): where the CoP is against where the controller put the CoM.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct HoldFigures {
+    pub from_t: f64,
+    pub ankle_torque_x_nm: [f64; 2],
+    pub zmp_minus_com_m: [f64; 2],
+    pub zmp_minus_controller_com_m: [f64; 2],
+    #[serde(skip)]
+    pub(crate) samples: [usize; 3],
+}
+
+impl HoldFigures {
+    /// Folds in one tick: feet moments (None: that foot unloaded) and the ZMP − CoM offset.
+    pub(crate) fn push(
+        &mut self,
+        torque_x: [Option<f64>; 2],
+        zmp_minus_com: Option<[[f64; 2]; 2]>,
+    ) {
+        for (k, t) in torque_x.iter().enumerate() {
+            if let Some(t) = t {
+                self.samples[k] += 1;
+                self.ankle_torque_x_nm[k] +=
+                    (t - self.ankle_torque_x_nm[k]) / self.samples[k] as f64;
+            }
+        }
+        if let Some([d, c]) = zmp_minus_com {
+            self.samples[2] += 1;
+            let n = self.samples[2] as f64;
+            for a in 0..2 {
+                self.zmp_minus_com_m[a] += (d[a] - self.zmp_minus_com_m[a]) / n;
+                self.zmp_minus_controller_com_m[a] +=
+                    (c[a] - self.zmp_minus_controller_com_m[a]) / n;
+            }
+        }
+    }
 }
 
 /// How a robot walking with a person did: its CoM against the point it should hold relative
@@ -484,11 +540,21 @@ impl fmt::Display for Metrics {
         for foot in &self.feet {
             writeln!(
                 f,
-                "  {} foot: slip {:.2} mm, vertical force mean {:.0} N, peak {:.0} N",
+                "  {} foot: slip {:.2} mm, vertical force mean {:.0} N, peak {:.0} N{}",
                 foot.label,
                 foot.slip * 1e3,
                 foot.force_mean,
-                foot.force_peak
+                foot.force_peak,
+                if foot.landings > 0 {
+                    format!(
+                        "; {} landings, landing error mean {:.1} mm, max {:.1} mm",
+                        foot.landings,
+                        foot.landing_error_mean * 1e3,
+                        foot.landing_error_max * 1e3
+                    )
+                } else {
+                    String::new()
+                }
             )?;
         }
         writeln!(
@@ -510,6 +576,19 @@ impl fmt::Display for Metrics {
             "  mechanical work {:.1} J (positive {:.1} J)",
             self.work, self.positive_work
         )?;
+        if let Some(h) = &self.hold {
+            writeln!(
+                f,
+                "  hold, t ≥ {:.2} s: F/T moment about the sole x, left {:.2} N·m, right {:.2} N·m; ZMP − CoM x {:.2} mm, y {:.2} mm; ZMP − the controller's CoM x {:.2} mm, y {:.2} mm",
+                h.from_t,
+                h.ankle_torque_x_nm[0],
+                h.ankle_torque_x_nm[1],
+                h.zmp_minus_com_m[0] * 1e3,
+                h.zmp_minus_com_m[1] * 1e3,
+                h.zmp_minus_controller_com_m[0] * 1e3,
+                h.zmp_minus_controller_com_m[1] * 1e3
+            )?;
+        }
         if let Some(c) = &self.conav {
             writeln!(
                 f,

@@ -9,8 +9,8 @@ use corps_loop::verdict::Criteria;
 use corps_model::{forward_kinematics_placements, Data, Model};
 use corps_robot::Robot;
 use corps_sim::{
-    first_actuated, place_on_ground, sample_contact_points, Command, SensorLayout, Sensors,
-    ServoGains, Simulator, Surface, Terrain,
+    first_actuated, place_on_ground, sample_contact_points, Command, HiddenJoints, SensorLayout,
+    Sensors, ServoGains, Simulator, Surface, Terrain,
 };
 use nalgebra::DVector;
 use std::path::Path;
@@ -36,6 +36,11 @@ pub struct Setup {
     pub criteria: Criteria,
     /// The tool and block of `[press]`, if any.
     pub press: Option<crate::press::PressWorld>,
+    /// When the robot has passive joints its description keeps from the controllers
+    /// ([`corps_robot::PlantVariant`]): the maps between `model` and the simulator's model.
+    /// `sim`, `sensors` and `command` are then of the simulator's model, everything else of
+    /// `model`.
+    pub hidden: Option<HiddenJoints>,
 }
 
 /// The scenario's robot: its description (default: TALOS), or a bare URDF for `corps sim`.
@@ -92,22 +97,38 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
     }
     check_clear_of_terrain(&model, &terrain, &q0, scenario.sim.contact.point_spacing)?;
 
+    // The simulator's model: the rigid one, or its variant with passive joints.
+    let variant = robot.as_ref().and_then(|r| r.plant.clone());
     let act = &scenario.actuation;
+    let (sim_model, sim_q0, hidden) = match &variant {
+        Some(v) => {
+            if press.is_some() {
+                bail!("press: not available on a robot with passive joints");
+            }
+            if act.drives {
+                bail!("actuation.drives: not available on a robot with passive joints");
+            }
+            let map = HiddenJoints::new(&model, &v.model).map_err(|e| invalid!("robot: {e}"))?;
+            let (q, _) = map.widen_state(q0.as_slice(), &vec![0.0; model.nv]);
+            (v.model.clone(), q, Some(map))
+        }
+        None => (model.clone(), q0.clone(), None),
+    };
     let gains = match &act.pid_gains {
-        Some(path) => crate::pid_gains::load(&model, &base_dir.join(path))
+        Some(path) => crate::pid_gains::load(&sim_model, &base_dir.join(path))
             .map_err(|e| invalid!("actuation.pid_gains: {e}"))?,
         None => ServoGains::high_gain(
-            &model,
-            q0.as_slice(),
+            &sim_model,
+            sim_q0.as_slice(),
             act.saturation_angle,
             act.damping_ratio,
         )
         .map_err(|e| invalid!("actuation: {e}"))?,
     };
-    let na = model.nv - first_actuated(&model);
+    let na = sim_model.nv - first_actuated(&sim_model);
     let command = match act.mode {
         ActuationMode::Position => Command::Position {
-            q_ref: q0.clone(),
+            q_ref: sim_q0.clone(),
             v_ref: DVector::zeros(na),
         },
         ActuationMode::Torque => Command::Torque(DVector::zeros(na)),
@@ -115,13 +136,20 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
     };
 
     let mut sim = Simulator::new(
-        model.clone(),
+        sim_model.clone(),
         terrain,
         scenario.sim.clone(),
-        q0.as_slice(),
+        sim_q0.as_slice(),
         gains,
     )
     .map_err(|e| invalid!("sim: {e}"))?;
+    if let Some(v) = &variant {
+        let passive: Vec<_> = (v.passive.iter())
+            .map(|p| (p.joint, p.stiffness, p.damping))
+            .collect();
+        sim.set_passive_joints(&passive)
+            .map_err(|e| invalid!("robot: {e}"))?;
+    }
     if act.drives {
         let drives = crate::drives::for_model(&model, robot.as_ref(), &act.drive)?;
         sim.set_drives(drives)
@@ -147,7 +175,7 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
     }
 
     let (layout, feet) = sensor_layout(scenario, robot.as_ref());
-    let sensors = Sensors::new(&model, &layout, scenario.noise.clone(), scenario.seed)
+    let sensors = Sensors::new(&sim_model, &layout, scenario.noise.clone(), scenario.seed)
         .map_err(|e| invalid!("sensors: {e}"))?;
     let feet = feet
         .iter()
@@ -214,6 +242,7 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         ticks,
         q0,
         press,
+        hidden,
     })
 }
 

@@ -122,6 +122,9 @@ pub struct Actuators {
     /// on meanwhile), or at the end of a linearly implicit step of `implicit_step` s.
     drive_lead: f64,
     implicit_step: Option<f64>,
+    /// Passive spring-dampers `τ = −k q − d q̇` (seed 000 Eq 6.4): (actuated index, index in
+    /// q, k, d). They take no command.
+    passive: Vec<(usize, usize, f64, f64)>,
     /// The actuated joints' positions, velocities and torque command (scratch).
     q_a: Vec<f64>,
     v_a: Vec<f64>,
@@ -141,6 +144,7 @@ impl Actuators {
             drive_q: Vec::new(),
             drive_lead: 0.0,
             implicit_step: None,
+            passive: Vec::new(),
             q_a: vec![0.0; na],
             v_a: vec![0.0; na],
             tau_a: vec![0.0; na],
@@ -177,6 +181,36 @@ impl Actuators {
             None
         };
         self.drive_q = drive_q;
+        Ok(())
+    }
+
+    /// Makes the one-dof joints `joints` (model joint index, k in N·m/rad, d in N·m·s/rad)
+    /// passive spring-dampers, `τ = −k q − d q̇`, whatever the command says of them.
+    pub fn set_passive(&mut self, model: &Model, joints: &[(usize, f64, f64)]) -> Result<()> {
+        let mut passive = Vec::with_capacity(joints.len());
+        for &(j, k, d) in joints {
+            let Some(joint) = model.joints.get(j) else {
+                return Err(SimError::Setting {
+                    name: "passive joint".into(),
+                    reason: format!("no joint {j}"),
+                });
+            };
+            let bad = |reason: String| SimError::Setting {
+                name: format!("passive joint {}", joint.name),
+                reason,
+            };
+            if joint.nq() != 1 || joint.nv() != 1 || joint.idx_v < self.first {
+                return Err(bad("must be a one-dof joint below the root".into()));
+            }
+            if !(k.is_finite() && k > 0.0) {
+                return Err(bad(format!("stiffness {k} (must be finite and > 0)")));
+            }
+            if !(d.is_finite() && d >= 0.0) {
+                return Err(bad(format!("damping {d} (must be finite and ≥ 0)")));
+            }
+            passive.push((joint.idx_v - self.first, joint.idx_q, k, d));
+        }
+        self.passive = passive;
         Ok(())
     }
 
@@ -345,6 +379,9 @@ impl Actuators {
                 }
             }
         }
+        for &(k, iq, stiffness, damping) in &self.passive {
+            tau[f + k] = -stiffness * q[iq] - damping * v[f + k];
+        }
     }
 
     /// The servo's linearization for an implicit step, over the actuated joints: writes
@@ -379,6 +416,10 @@ impl Actuators {
                 Command::Position { .. } => (self.gains.kp[k], self.gains.kd[k]),
                 Command::Velocity(_) => (0.0, self.gains.kd[k]),
             };
+            stiffness[k] = kp;
+            damping[k] = kd;
+        }
+        for &(k, _, kp, kd) in &self.passive {
             stiffness[k] = kp;
             damping[k] = kd;
         }

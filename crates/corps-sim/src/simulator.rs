@@ -374,6 +374,15 @@ impl Simulator {
         Ok(())
     }
 
+    /// Makes `joints` (model joint index, stiffness N·m/rad, damping N·m·s/rad) passive
+    /// spring-dampers: the command no longer moves them ([`Actuators::set_passive`]).
+    pub fn set_passive_joints(&mut self, joints: &[(usize, f64, f64)]) -> Result<()> {
+        self.actuators.set_passive(&self.model, joints)?;
+        self.first_stage_valid = false;
+        self.implicit.prepared = false;
+        Ok(())
+    }
+
     /// The flexible drives, if any.
     pub fn drives(&self) -> Option<&Drives> {
         self.actuators.drives()

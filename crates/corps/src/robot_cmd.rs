@@ -1,5 +1,7 @@
 //! `corps robot init URDF [SRDF]`: writes a starting robot description for a new robot, with
 //! the feet guessed from the lowest collision bodies and every guess marked `# CHECK`.
+//! `corps robot stiffness SCENARIO --joints A,B`: identifies the stiffness of passive joints
+//! from a one-leg stance ([`corps_scenario::identify`], seed 000 App. 4).
 
 use anyhow::{bail, Context, Result};
 use clap::Subcommand;
@@ -18,10 +20,34 @@ pub enum RobotCommand {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
+    /// Identify one stiffness for passive joints of the robot (a side of a flexible hip) from
+    /// a one-leg stance scenario under `[controller.flexibility] compensation = "model"`:
+    /// the stiffness at which the F/T sensors' CoP meets the controller's CoM.
+    Stiffness {
+        /// The one-foot scenario (TOML).
+        scenario: PathBuf,
+        /// The passive joints (names of the description's `[[passive_joints]]`), comma-separated.
+        #[arg(long, value_delimiter = ',', required = true)]
+        joints: Vec<String>,
+        /// The second run's stiffness (the first has no compensation), N·m/rad.
+        #[arg(long, default_value_t = 1000.0)]
+        first_guess: f64,
+        /// Runs at most.
+        #[arg(long, default_value_t = 8)]
+        max_runs: usize,
+    },
 }
 
 pub fn run(cmd: RobotCommand) -> Result<()> {
-    let RobotCommand::Init { urdf, srdf, output } = cmd;
+    let (urdf, srdf, output) = match cmd {
+        RobotCommand::Init { urdf, srdf, output } => (urdf, srdf, output),
+        RobotCommand::Stiffness {
+            scenario,
+            joints,
+            first_guess,
+            max_runs,
+        } => return stiffness(&scenario, &joints, first_guess, max_runs),
+    };
     let model = corps_scenario::default_robot::load_model(Some(&urdf), srdf.as_deref(), false)?;
     let output = output.unwrap_or_else(|| {
         let stem = urdf
@@ -76,4 +102,45 @@ fn relative_path(path: &Path, dir: &Path) -> String {
         out.push(c);
     }
     out.to_string_lossy().replace('\\', "/")
+}
+
+/// `corps robot stiffness`: the search, one line per run, then the estimate.
+fn stiffness(path: &Path, joints: &[String], first_guess: f64, max_runs: usize) -> Result<()> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
+    let scenario = corps_scenario::scenario::Scenario::parse(&text)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    let search = corps_scenario::identify::StiffnessSearch {
+        first_guess,
+        max_runs,
+        ..Default::default()
+    };
+    let estimate = corps_scenario::identify::identify_stiffness(&scenario, base, joints, &search)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let mut out = String::new();
+    for (k, p) in estimate.probes.iter().enumerate() {
+        let assumed = p
+            .stiffness
+            .map_or("none (no compensation)".to_string(), |s| {
+                format!("{s:.1} N·m/rad")
+            });
+        out += &format!(
+            "run {}: stiffness {assumed}: CoP − controller CoM {:+.3} mm sideways, sole moment x {:+.2} N·m\n",
+            k + 1,
+            p.cop_offset * 1e3,
+            p.moment
+        );
+    }
+    out += &format!(
+        "stiffness of {}: {:.0} N·m/rad ({})\n",
+        joints.join(", "),
+        estimate.stiffness,
+        if estimate.converged {
+            "converged"
+        } else {
+            "not converged within the runs"
+        }
+    );
+    corps::stdout::print(&out)
 }

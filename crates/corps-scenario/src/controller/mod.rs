@@ -19,6 +19,9 @@ pub use stabilized::{behind_stabilizer, Stabilized};
 pub use tsid::{TsidController, TsidMode, POSTURE_CHANNELS, TANK_CHANNELS};
 
 use super::targets::Targets;
+use corps_control::flexibility::{
+    planned_wrenches, CompensatedJoint, CompensationMode, FlexibilityCompensation,
+};
 use corps_control::stabilizer::{StabilizerOutput, Wrench};
 use corps_control::FallbackReason;
 use corps_estimation::EstimatedState;
@@ -54,6 +57,101 @@ pub struct ControllerSection {
     /// Values replacing the gains file's, e.g. `posture.weight = 1e-3`.
     #[serde(default)]
     pub set: toml::Table,
+    /// Compensation of the robot's passive joints in the position command (seed 000 App. 4).
+    pub flexibility: Option<FlexibilitySection>,
+}
+
+/// `[controller.flexibility]`: offsets the position command of each joint a passive joint
+/// of the robot description names in `compensated_by` (seed 000 Eq 6.3,
+/// [`corps_control::flexibility`]).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct FlexibilitySection {
+    /// `fixed`: ±`offset` scaled by the leg's load share; `model`: the static torque over K.
+    pub compensation: CompensationKind,
+    /// The fixed offset, rad (default 0.021 = 20 N·m / 973 N·m/rad, seed 000 Eq 6.3, L5415).
+    #[serde(default = "thesis_offset")]
+    pub offset: f64,
+    /// The model mode's low-pass time constant on the torque estimate, s.
+    #[serde(default = "torque_filter")]
+    pub filter: f64,
+    /// Where the feet's wrenches come from: `planned` (the reference CoM and ZMP, no sensor:
+    /// the default) or `measured` (the ankle F/T sensors).
+    #[serde(default)]
+    pub wrenches: WrenchSource,
+    /// Stiffness the controller assumes for a passive joint (by name), N·m/rad, in place of
+    /// the description's (an identification's estimate, say).
+    #[serde(default)]
+    pub stiffness: std::collections::BTreeMap<String, f64>,
+}
+
+/// `[controller.flexibility] compensation`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CompensationKind {
+    Fixed,
+    Model,
+}
+
+/// `[controller.flexibility] wrenches`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WrenchSource {
+    #[default]
+    Planned,
+    Measured,
+}
+
+fn thesis_offset() -> f64 {
+    0.021
+}
+
+fn torque_filter() -> f64 {
+    0.02
+}
+
+impl FlexibilitySection {
+    /// The compensation of `robot`'s passive joints for the rigid model, `posture` standing.
+    pub fn build(
+        &self,
+        robot: &corps_robot::Robot,
+        posture: &[f64],
+        gravity: f64,
+    ) -> crate::Result<FlexibilityCompensation> {
+        let Some(plant) = &robot.plant else {
+            crate::error::bail!(
+                "controller.flexibility: robot '{}' has no passive joints to compensate",
+                robot.name
+            );
+        };
+        for name in self.stiffness.keys() {
+            if !plant.passive.iter().any(|p| &p.name == name) {
+                crate::error::bail!(
+                    "controller.flexibility.stiffness: '{name}' is not a passive joint of robot '{}'",
+                    robot.name
+                );
+            }
+        }
+        let joints: Vec<CompensatedJoint> = (plant.passive.iter())
+            .filter_map(|p| {
+                Some(CompensatedJoint {
+                    joint: p.compensated_by?,
+                    stiffness: *self.stiffness.get(&p.name).unwrap_or(&p.stiffness),
+                })
+            })
+            .collect();
+        let mode = match self.compensation {
+            CompensationKind::Fixed => CompensationMode::Fixed {
+                offset: self.offset,
+            },
+            CompensationKind::Model => CompensationMode::Model {
+                filter: self.filter,
+            },
+        };
+        let feet: Vec<usize> = robot.feet.iter().map(|f| f.frame).collect();
+        FlexibilityCompensation::new(&robot.model, &joints, &feet, posture, mode, gravity)
+            .map_err(|e| crate::error::invalid!("controller.flexibility: {e}"))
+    }
 }
 
 /// Longest settling time under the joint PD hold before the controller takes over (s).
@@ -172,11 +270,50 @@ pub trait WholeBodyController: Send {
 /// hands the controller (q, v) and what the sensors measured.
 pub struct ScenarioController {
     inner: Box<dyn WholeBodyController>,
+    /// The passive joints' compensation, the model, the control period and the compensated
+    /// command.
+    compensation: Option<Compensated>,
+}
+
+struct Compensated {
+    compensation: FlexibilityCompensation,
+    model: std::sync::Arc<corps_model::Model>,
+    dt: f64,
+    command: Command,
+    wrenches: WrenchSource,
+    /// Mass (kg) and gravity (m/s², > 0) for the planned wrenches.
+    mass: f64,
+    gravity: f64,
 }
 
 impl ScenarioController {
     pub fn new(inner: Box<dyn WholeBodyController>) -> Self {
-        Self { inner }
+        Self {
+            inner,
+            compensation: None,
+        }
+    }
+
+    /// Offsets the inner controller's position commands by `compensation`.
+    pub fn with_compensation(
+        mut self,
+        compensation: FlexibilityCompensation,
+        wrenches: WrenchSource,
+        model: std::sync::Arc<corps_model::Model>,
+        gravity: f64,
+        dt: f64,
+    ) -> Self {
+        let command = self.inner.command().clone();
+        self.compensation = Some(Compensated {
+            compensation,
+            mass: model.total_mass(),
+            model,
+            dt,
+            command,
+            wrenches,
+            gravity,
+        });
+        self
     }
 
     /// The balance stabilizer's output of the last tick, if there is a stabilizer.
@@ -187,6 +324,11 @@ impl ScenarioController {
     /// The references the controller chose itself, if it did ([`WholeBodyController::tracked_targets`]).
     pub fn tracked_targets(&self) -> Option<&Targets> {
         self.inner.tracked_targets()
+    }
+
+    /// The CoM of the state the controller works on ([`WholeBodyController::controller_com`]).
+    pub fn controller_com(&self) -> Vector3<f64> {
+        self.inner.controller_com()
     }
 
     /// The controller's own figures of the run.
@@ -224,12 +366,62 @@ impl Controller for ScenarioController {
             }),
             hands: &est.hands,
         };
-        self.inner
-            .tick(t, est.q.as_slice(), est.v.as_slice(), targets, &measured)
+        let fallback = self
+            .inner
+            .tick(t, est.q.as_slice(), est.v.as_slice(), targets, &measured);
+        if let Some(c) = &mut self.compensation {
+            let cmd = self.inner.command();
+            match (&mut c.command, cmd) {
+                (
+                    Command::Position { q_ref, v_ref },
+                    Command::Position {
+                        q_ref: q_in,
+                        v_ref: v_in,
+                    },
+                ) if q_ref.len() == q_in.len() && v_ref.len() == v_in.len() => {
+                    q_ref.copy_from(q_in);
+                    v_ref.copy_from(v_in);
+                }
+                (slot, cmd) => *slot = cmd.clone(),
+            }
+            // Measured: the estimated state with the F/T wrenches; planned: the state the
+            // controller commands (before the offsets) with the reference's feet and wrenches,
+            // one consistent world.
+            if let Command::Position { q_ref, .. } = &c.command {
+                let result = match c.wrenches {
+                    WrenchSource::Measured => c.compensation.update(
+                        &c.model,
+                        est.q.as_slice(),
+                        &measured.feet,
+                        &measured.foot_wrenches,
+                        c.dt,
+                    ),
+                    WrenchSource::Planned => {
+                        let feet = [0, 1].map(|k| isometry(&targets.feet[k].reference.placement));
+                        let supporting = [0, 1].map(|k| targets.feet[k].supporting);
+                        let zmp = targets.reference_zmp(targets.contact_ground(), c.gravity);
+                        let acc = Vector3::from_column_slice(targets.com.acc.as_slice());
+                        let wrenches =
+                            planned_wrenches(c.mass, c.gravity, &acc, zmp, &feet, supporting);
+                        c.compensation
+                            .update(&c.model, q_ref.as_slice(), &feet, &wrenches, c.dt)
+                    }
+                };
+                // A failed update (a non-finite state) keeps the last offsets.
+                let _ = result;
+            }
+            if let Command::Position { q_ref, .. } = &mut c.command {
+                c.compensation.apply(q_ref.as_mut_slice());
+            }
+        }
+        fallback
     }
 
     fn command(&self) -> &Command {
-        self.inner.command()
+        match &self.compensation {
+            Some(c) => &c.command,
+            None => self.inner.command(),
+        }
     }
 }
 

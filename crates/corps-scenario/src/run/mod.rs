@@ -32,6 +32,7 @@ use corps_loop::verdict::VerdictObserver;
 use corps_loop::{ClosedLoop, LoopEnd, LoopSettings, Truth};
 use corps_model::STANDARD_GRAVITY as GRAVITY;
 use corps_model::{com_at_placements, frame_placement};
+use corps_sim::WithHiddenJoints;
 use corps_sim::{ExternalPlant, Overlap, SimulatedRobot, StatePlant};
 use nalgebra::Vector3;
 use plant::RunPlant;
@@ -160,6 +161,7 @@ impl ScenarioRun {
             feet: foot_sensors,
             imu_frame,
             press,
+            hidden,
             ..
         } = setup::build(scenario, base_dir)?;
         let Some(robot) = robot else {
@@ -201,7 +203,17 @@ impl ScenarioRun {
                 sim.remove_surface_at(p.block_surface, handover + at)?;
             }
         }
-        let (q, v) = (sim.q().clone_owned(), sim.v().clone_owned());
+        // The state the controllers start from: what the rigid model sees of the plant's.
+        let (q, v) = match &hidden {
+            Some(map) => {
+                let mut q = nalgebra::DVector::zeros(model.nq);
+                let mut v = nalgebra::DVector::zeros(model.nv);
+                map.narrow_q(sim.q().as_slice(), q.as_mut_slice());
+                map.narrow_v(sim.v().as_slice(), v.as_mut_slice());
+                (q, v)
+            }
+            None => (sim.q().clone_owned(), sim.v().clone_owned()),
+        };
         let mass = model.total_mass();
         let (inner, stabilized) = match section.kind {
             ControllerKind::TsidTorque
@@ -290,7 +302,17 @@ impl ScenarioRun {
             estimator = estimator.with_hands(&[hand])?;
         }
         corps_estimation::Estimator::reset(&mut estimator, q.as_slice(), v.as_slice())?;
-        let (model_ref, data) = (sim.model(), sim.data());
+        // The handover as the controllers' model sees it (with hidden joints, the rigid
+        // model at the encoders' angles).
+        let mut rigid_data = None;
+        let (model_ref, data) = match &hidden {
+            Some(_) => {
+                let mut d = corps_model::Data::new(&model);
+                corps_model::forward_kinematics_placements(&model, &mut d, q.as_slice())?;
+                (&model, &*rigid_data.insert(d))
+            }
+            None => (sim.model(), sim.data()),
+        };
         let (com0, _) = com_at_placements(model_ref, data);
         let feet0 = [
             frame_placement(model_ref, data, soles[0])?,
@@ -362,9 +384,34 @@ impl ScenarioRun {
         let current = plan.initial_targets();
         Ok(Self {
             closed_loop: ClosedLoop {
-                plant: RunPlant::Simulated(SimulatedRobot::new(sim, sensors, options.overlap)),
+                plant: {
+                    let robot = SimulatedRobot::new(sim, sensors, options.overlap);
+                    match hidden {
+                        Some(map) => RunPlant::Hidden(WithHiddenJoints::new(robot, map)),
+                        None => RunPlant::Simulated(robot),
+                    }
+                },
                 estimator,
-                controller: ScenarioController::new(inner),
+                controller: match &section.flexibility {
+                    Some(fx) => {
+                        if !matches!(
+                            section.kind,
+                            ControllerKind::IkPosition | ControllerKind::TsidPosition
+                        ) {
+                            bail!("controller.flexibility: compensates position commands; kind '{}' sends torques", section.kind.name());
+                        }
+                        let g = Vector3::from(scenario.sim.gravity).norm();
+                        let comp = fx.build(&robot, q0.as_slice(), g)?;
+                        ScenarioController::new(inner).with_compensation(
+                            comp,
+                            fx.wrenches,
+                            model.clone(),
+                            g,
+                            dt,
+                        )
+                    }
+                    None => ScenarioController::new(inner),
+                },
                 references: plan,
                 current,
             },
@@ -412,8 +459,12 @@ impl ScenarioRun {
             references,
             current,
         } = self.closed_loop;
-        let RunPlant::Simulated(sim) = current_plant else {
-            bail!("the run already has its own plant");
+        let sim = match current_plant {
+            RunPlant::Simulated(sim) => sim,
+            RunPlant::Hidden(_) => {
+                bail!("robot: another plant cannot take a robot with passive joints")
+            }
+            RunPlant::External(_) => bail!("the run already has its own plant"),
         };
         let (sim, sensors) = sim.into_parts()?;
         let model = sim.model().clone();

@@ -193,10 +193,33 @@ impl Observer<ScenarioController> for Recorder<'_, '_> {
         for (sum, fz) in self.force_sum.iter_mut().zip(contact.foot_fz) {
             *sum += fz;
         }
+        // Landings and the hold figures count until the run fails (a fallen robot's feet flail).
+        let upright = self.verdict.failure().is_none();
+        let end = self.metrics.duration;
+        if !upright {
+            self.metrics.hold = None;
+        } else if t >= end - crate::metrics::HOLD_WINDOW - 1e-9 {
+            let h = (self.metrics.hold).get_or_insert_with(|| crate::metrics::HoldFigures {
+                from_t: t,
+                ..Default::default()
+            });
+            let torque_x =
+                [0, 1].map(|k| (contact.foot_fz[k] > ZMP_MIN_FZ).then_some(est.feet[k].wrench[3]));
+            let own = tick.controller.controller_com();
+            let offset = contact.zmp.map(|z| {
+                [
+                    [z[0] - truth.com.x, z[1] - truth.com.y],
+                    [z[0] - own.x, z[1] - own.y],
+                ]
+            });
+            h.push(torque_x, offset);
+        }
+        let m = &mut self.metrics;
         record(
             m,
             &mut self.row,
             Sample {
+                upright,
                 t,
                 base: true_base,
                 base0: s.base0,
@@ -268,6 +291,8 @@ fn work(truth: &Truth, model: &Model, dt: f64) -> (f64, f64, f64) {
 }
 
 struct Sample<'a> {
+    /// The run has not failed yet.
+    upright: bool,
     t: f64,
     base: Vector3<f64>,
     base0: Vector3<f64>,
@@ -332,7 +357,14 @@ fn record(
         }
         foot.force_peak = foot.force_peak.max(s.contact.foot_fz[k]);
         // Slip: horizontal motion while the plan has the foot on the ground and it is loaded.
+        foot.swung |= !target.supporting;
         if target.supporting && s.contact.foot_fz[k] > ZMP_MIN_FZ {
+            if contact_start[k].is_none() && std::mem::take(&mut foot.swung) && s.upright {
+                let error = (s.feet[k] - r).xy().norm();
+                foot.landings += 1;
+                foot.landing_error_mean += (error - foot.landing_error_mean) / foot.landings as f64;
+                foot.landing_error_max = foot.landing_error_max.max(error);
+            }
             let start = *contact_start[k].get_or_insert(s.feet[k]);
             foot.slip = foot.slip.max((s.feet[k] - start).xy().norm());
         } else {

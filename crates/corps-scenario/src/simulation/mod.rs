@@ -68,6 +68,11 @@ impl Simulation {
             );
         }
         let setup = setup::build(scenario, base_dir)?;
+        if setup.hidden.is_some() {
+            crate::error::bail!(
+                "robot: a robot with passive joints runs closed-loop only (`corps run`)"
+            );
+        }
         let ft_names: Vec<String> = (setup.sensors.force_torque_names())
             .map(String::from)
             .collect();
