@@ -40,10 +40,13 @@ for v in _rigid ""; do
 import json, sys
 d, v = sys.argv[1:]
 m = json.load(open(f"{d}/metrics.json"))
-h = m["hold"]
+h = m.get("hold")
 robot = "rigid TALOS, TSID torque" if v else "flexible hip, TSID torque"
-print(f"| left | {robot} | — | {m['verdict']['verdict']} | {h['ankle_torque_x_nm'][0]:.2f} "
-      f"| {1e3 * h['zmp_minus_controller_com_m'][1]:.2f} | {1e3 * h['zmp_minus_com_m'][1]:.2f} |")
+if h is None:
+    print(f"| left | {robot} | — | {m['verdict']['verdict']} | — | — | — |")
+else:
+    print(f"| left | {robot} | — | {m['verdict']['verdict']} | {h['ankle_torque_x_nm'][0]:.2f} "
+          f"| {1e3 * h['zmp_minus_controller_com_m'][1]:.2f} | {1e3 * h['zmp_minus_com_m'][1]:.2f} |")
 PY
 done
 echo

@@ -8,9 +8,14 @@
 //! (a_j the joint axis, p_j its origin, world frame). Two modes:
 //! - **model**: Δq = τ̂ / K, τ̂ low-passed (the flexibility's spring `τ_f = −kθ` known to the
 //!   controller, Eq 6.4 in statics);
-//! - **fixed**: Δq = ±offset scaled by the leg's share of the measured vertical load, on the
-//!   joints whose hip sits sideways of the base (the roll joints): the thesis's constant
-//!   0.021 rad = 20 N·m / 973 N·m/rad.
+//! - **fixed**: Δq = ±offset scaled by the leg's share of the vertical load, on the joints
+//!   about which the body hanging beside the hip weighs most (within half of the leg's
+//!   largest lever: a biped's hip roll joints): the thesis's constant 0.021 rad = 20 N·m /
+//!   973 N·m/rad.
+//!
+//! The offset goes to the actuated joint about the flexibility's axis; where the flexibility
+//! sits above another joint (TALOS' hip, above the hip yaw) the two axes coincide only while
+//! that joint is at zero, and the estimate leaves out the bodies between them.
 
 use crate::error::{ControlError, Result};
 use crate::stabilizer::Wrench;
@@ -44,7 +49,8 @@ struct Entry {
     foot: usize,
     /// Axis in the joint frame.
     axis: Vector3<f64>,
-    /// Direction of the deflection under load for the fixed mode (0: not compensated there).
+    /// Direction of the deflection under load for the fixed mode (0: not offset there); the
+    /// lever (m) while building.
     sign: f64,
     /// Filtered torque estimate, N·m.
     torque: f64,
@@ -64,8 +70,8 @@ pub struct FlexibilityCompensation {
 
 impl FlexibilityCompensation {
     /// `feet`: the sole frames, one per foot; each joint must carry exactly one of them.
-    /// `posture`: a standing configuration (the fixed mode's signs: a joint whose origin lies
-    /// sideways of the root joint's by more than 1 cm about its axis gets ±offset).
+    /// `posture`: a standing configuration (the fixed mode's joints and signs, from the
+    /// root's position about each joint's axis).
     pub fn new(
         model: &Model,
         joints: &[CompensatedJoint],
@@ -122,22 +128,33 @@ impl FlexibilityCompensation {
             let placement = data.o_m_i[c.joint];
             let a = placement.rotation * axis;
             let r = root - placement.translation;
+            // The moment about the axis of a weight at the root, per newton: the sign of the
+            // joint's torque when its leg carries the body hanging beside it.
             let lever = -a.dot(&Vector3::new(r.y, -r.x, 0.0));
-            let sign = if lever.abs() > 0.01 {
-                lever.signum()
-            } else {
-                0.0
-            };
             entries.push(Entry {
                 joint: c.joint,
                 idx_q: joint.idx_q,
                 stiffness: c.stiffness,
                 foot,
                 axis,
-                sign,
+                sign: lever,
                 torque: 0.0,
                 offset: 0.0,
             });
+        }
+        // The fixed offset goes to the joints of each leg whose lever is at least half the
+        // leg's largest (the axis across the hip's sideways offset: the roll joints of a
+        // biped whose hips sit beside the waist), with the lever's sign.
+        let levers: Vec<(usize, f64)> = entries.iter().map(|e| (e.foot, e.sign)).collect();
+        for e in &mut entries {
+            let largest = (levers.iter())
+                .filter(|(foot, _)| *foot == e.foot)
+                .fold(0.0f64, |m, (_, l)| m.max(l.abs()));
+            e.sign = if largest > 0.0 && e.sign.abs() >= 0.5 * largest {
+                e.sign.signum()
+            } else {
+                0.0
+            };
         }
         Ok(Self {
             mode,

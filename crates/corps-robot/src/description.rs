@@ -109,8 +109,9 @@ pub struct PassiveJointSpec {
     pub stiffness: f64,
     /// `d`, N·m·s/rad, ≥ 0.
     pub damping: f64,
-    /// The actuated joint of the rigid model that turns about the same axis, whose command a
-    /// controller offsets to compensate the deflection (seed 000 Eq 6.3).
+    /// The actuated joint of the rigid model that turns about the same axis (while the joints
+    /// between them are at zero), whose command a controller offsets to compensate the
+    /// deflection (seed 000 Eq 6.3); one passive joint each.
     pub compensated_by: Option<String>,
 }
 

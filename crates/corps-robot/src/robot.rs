@@ -220,6 +220,16 @@ impl Loader {
                 })
             })
             .collect::<Checked<Vec<_>>>()?;
+        for (k, p) in passive.iter().enumerate() {
+            if (p.compensated_by)
+                .is_some_and(|j| passive[..k].iter().any(|o| o.compensated_by == Some(j)))
+            {
+                return Err(format!(
+                    "passive_joints[{k}].compensated_by: '{}' compensates another passive joint already",
+                    robot.model.joints[p.compensated_by.unwrap_or(0)].name
+                ));
+            }
+        }
         robot.plant = Some(Arc::new(PlantVariant {
             model: plant.model,
             passive,

@@ -108,6 +108,13 @@ fn bad_passive_joints_are_refused_with_the_key() {
             format!("{ok}\ncompensated_by = \"nope\""),
             "passive_joints[0].compensated_by",
         ),
+        (
+            format!(
+                "{ok}\ncompensated_by = \"leg_left_2_joint\"\n[[passive_joints]]\n{}\ncompensated_by = \"leg_left_2_joint\"",
+                ok.replace("name = \"p\"", "name = \"q\"")
+            ),
+            "passive_joints[1].compensated_by",
+        ),
     ] {
         let err = with_passive(&entry).expect_err(&entry);
         assert!(err.contains(expected), "{entry}: {err}");

@@ -3,8 +3,10 @@
 //! controller that compensates the flexibility (`[controller.flexibility] compensation =
 //! "model"`) with a candidate stiffness k̂; the CoP the F/T sensors measure matches the CoM
 //! of the controller's state when k̂ is the robot's, and passes it when k̂ is off (too low a
-//! k̂ over-compensates, the CoP going inward). The offsets scale with 1/k̂, so the search is
-//! a secant on u = 1/k̂ from u = 0 (no compensation) on the sideways (world y) CoP − CoM.
+//! k̂ over-compensates: on TALOS' hips the CoP then goes outward of the stance foot). The
+//! offsets scale with 1/k̂, so the search is a secant on u = 1/k̂ from u = 0 (no
+//! compensation) on the sideways CoP − CoM, along the world y axis: the stance sole's
+//! sideways axis for a robot that starts facing x, as the shipped scenarios do.
 
 use crate::error::{bail, Result};
 use crate::motion::MotionSection;

@@ -115,8 +115,15 @@ pub fn build(scenario: &Scenario, base_dir: &Path) -> Result<Setup> {
         None => (model.clone(), q0.clone(), None),
     };
     let gains = match &act.pid_gains {
-        Some(path) => crate::pid_gains::load(&sim_model, &base_dir.join(path))
-            .map_err(|e| invalid!("actuation.pid_gains: {e}"))?,
+        // Gains name the robot's joints: read on the rigid model, the hidden joints get none.
+        Some(path) => {
+            let gains = crate::pid_gains::load(&model, &base_dir.join(path))
+                .map_err(|e| invalid!("actuation.pid_gains: {e}"))?;
+            match &hidden {
+                Some(map) => map.widen_gains(&gains),
+                None => gains,
+            }
+        }
         None => ServoGains::high_gain(
             &sim_model,
             sim_q0.as_slice(),

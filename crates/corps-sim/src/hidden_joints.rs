@@ -28,8 +28,8 @@ pub struct HiddenJoints {
 }
 
 impl HiddenJoints {
-    /// Matches every joint of `rigid` with the joint of the same name in `plant` (same kind
-    /// of joint); the joints of `plant` left over are the hidden ones.
+    /// Matches every joint of `rigid` with the joint of the same name in `plant` (with as
+    /// many q and v entries); the joints of `plant` left over are the hidden ones.
     pub fn new(rigid: &Model, plant: &Model) -> Result<Self> {
         let bad = |reason: String| SimError::Setting {
             name: "plant model".into(),
@@ -136,6 +136,25 @@ impl HiddenJoints {
         }
     }
 
+    /// The rigid model's servo gains for the plant (zero on the hidden joints, which their
+    /// spring-dampers drive instead).
+    pub fn widen_gains(&self, gains: &crate::ServoGains) -> crate::ServoGains {
+        let widen = |x: &DVector<f64>| {
+            let mut out = DVector::zeros(self.plant_nv - self.plant_first);
+            self.widen_actuated(x.as_slice(), out.as_mut_slice(), self.first);
+            out
+        };
+        crate::ServoGains {
+            kp: widen(&gains.kp),
+            kd: widen(&gains.kd),
+            integral: gains.integral.as_ref().map(|i| crate::IntegralTerm {
+                ki: widen(&i.ki),
+                i_clamp: widen(&i.i_clamp),
+                torque_clamp: widen(&i.torque_clamp),
+            }),
+        }
+    }
+
     /// A command for the plant's sizes, empty of values (as [`Self::widen_command`] fills).
     pub fn plant_command(&self, like: &Command) -> Command {
         let na = self.plant_nv - self.plant_first;
@@ -193,8 +212,8 @@ impl HiddenJoints {
     }
 
     /// The plant's readings as the rigid robot's sensors give them: the hidden joints have no
-    /// encoder; a hidden joint's body's contact wrench (none: its link is massless and has
-    /// no shape) goes to its nearest rigid ancestor.
+    /// encoder, and their bodies' contact wrenches are dropped (a passive joint's link is
+    /// massless and has no shape to touch anything with).
     pub fn narrow_readings(&self, plant: &Readings, out: &mut Readings) {
         out.time = plant.time;
         self.narrow_actuated(

@@ -135,17 +135,39 @@ fn hidden_joints_never_reach_the_readings() {
     let truth = sensed.truth.as_ref().unwrap();
     assert_eq!(truth.q.len(), rigid.nq);
     assert_eq!(truth.joint_placements.len(), rigid.joints.len());
-    // The encoders read the actuated joints' own angles (the plant's q without the hidden
-    // joints), not the legs' true orientation.
-    let plant_q = plant.into_inner().into_simulator().unwrap().q().clone();
+    // The encoders read the actuated joints' own angles, rates and torques (the plant's
+    // without the hidden joints), not the legs' true orientation.
+    let sim = plant.into_inner().into_simulator().unwrap();
+    let (plant_q, plant_v, plant_tau) = (
+        sim.q().clone(),
+        sim.v().clone(),
+        sim.applied_torques().clone(),
+    );
     for (j, joint) in rigid.joints.iter().enumerate().skip(1) {
         let k = joint.idx_v - rigid.first_actuated();
-        let p = variant.model.joint_id(&joint.name).unwrap();
-        let expected = plant_q[variant.model.joints[p].idx_q];
+        let p = &variant.model.joints[variant.model.joint_id(&joint.name).unwrap()];
+        let r = &sensed.readings;
         assert!(
-            (sensed.readings.joint_positions[k] - expected).abs() < 1e-12,
+            (r.joint_positions[k] - plant_q[p.idx_q]).abs() < 1e-12,
             "joint {j}"
         );
+        assert!(
+            (r.joint_velocities[k] - plant_v[p.idx_v]).abs() < 1e-12,
+            "joint {j}"
+        );
+        assert!(
+            (r.joint_torques[k] - plant_tau[p.idx_v]).abs() < 1e-12,
+            "joint {j}"
+        );
+        assert_eq!(
+            r.contact_wrenches[j], truth.readings.contact_wrenches[j],
+            "joint {j}"
+        );
+    }
+    // Each sole's contact wrench is its body's in the plant.
+    for f in &robot.feet {
+        let w = sensed.readings.contact_wrenches[f.joint];
+        assert!(w[2] > 100.0, "{}: {w:?}", f.label);
     }
     // The hips bent under the robot's weight: the plant has it, the readings cannot.
     let bent: Vec<f64> = (variant.passive.iter())

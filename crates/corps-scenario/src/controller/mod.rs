@@ -124,11 +124,16 @@ impl FlexibilitySection {
                 robot.name
             );
         };
-        for name in self.stiffness.keys() {
+        for (name, k) in &self.stiffness {
             if !plant.passive.iter().any(|p| &p.name == name) {
                 crate::error::bail!(
                     "controller.flexibility.stiffness: '{name}' is not a passive joint of robot '{}'",
                     robot.name
+                );
+            }
+            if !(k.is_finite() && *k > 0.0) {
+                crate::error::bail!(
+                    "controller.flexibility.stiffness.{name}: must be a finite number > 0 (N·m/rad), got {k}"
                 );
             }
         }
@@ -140,6 +145,12 @@ impl FlexibilitySection {
                 })
             })
             .collect();
+        if joints.is_empty() {
+            crate::error::bail!(
+                "controller.flexibility: no passive joint of robot '{}' names the joint that compensates it (compensated_by)",
+                robot.name
+            );
+        }
         let mode = match self.compensation {
             CompensationKind::Fixed => CompensationMode::Fixed {
                 offset: self.offset,
