@@ -28,6 +28,7 @@ pub mod foot;
 pub mod gains;
 mod gait;
 pub mod identify;
+pub mod learning;
 pub mod metrics;
 pub mod motion;
 pub mod numbers;

@@ -412,9 +412,32 @@ pub struct Metrics {
     /// Walking with a person (co-navigation): how well the robot held its point.
     #[serde(flatten)]
     pub conav: Option<ConavMetrics>,
+    /// Sums over every tick that fitness functions are made of (seed 001 Eq 5.17–5.18).
+    pub sums: RunSums,
     /// The last [`HOLD_WINDOW`] of the run, the robot standing: the balance the feet's F/T
     /// sensors measure (seed 000 App. 4's one-leg CoP/CoM test). None if the run failed.
     pub hold: Option<HoldFigures>,
+}
+
+/// Sums over the run's ticks (true state against the tracked references) and the peaks that
+/// a learning problem's fitness and constraints read (seed 001 §5.3.2, Eq 5.17–5.18).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct RunSums {
+    /// Ticks summed (n_s).
+    pub samples: usize,
+    /// Σ_t (|CoM − CoM*|² + Σ_feet |p − p*|²), m².
+    pub task_error_square_sum: f64,
+    /// Σ_t |τ|², N²·m²: the controller's torque command (its applied torques for a
+    /// controller of positions or velocities).
+    pub torque_square_sum: f64,
+    /// Σ_t |ZMP − support polygon centre|² over the ticks with a ZMP, m².
+    pub zmp_support_square_sum: f64,
+    /// Largest |τ_i| of the same, N·m.
+    pub torque_peak: f64,
+    /// Largest excursion of a joint beyond its URDF position limits, rad (0: never), and
+    /// that joint's name.
+    pub joint_limit_excess: f64,
+    pub joint_limit_excess_joint: Option<String>,
 }
 
 /// The window of [`HoldFigures`], s: long enough to average a standing robot's sway

@@ -9,6 +9,17 @@ use nalgebra::DVector;
 
 pub use corps_loop::Command;
 
+/// Hard-ish stops at the URDF position limits, as Gazebo's joints have: past a limit a joint
+/// feels `τ = −k (q − limit) − d q̇` (the implicit step takes both as it takes a servo's).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointStops {
+    /// N·m/rad (N/m for a prismatic joint).
+    pub stiffness: f64,
+    /// N·m·s/rad.
+    pub damping: f64,
+}
+
 /// Per-joint PD gains of the servo (size na each), and optionally an integral term.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ServoGains {
@@ -125,6 +136,11 @@ pub struct Actuators {
     /// Passive spring-dampers `τ = −k q − d q̇` (seed 000 Eq 6.4): (actuated index, index in
     /// q, k, d). They take no command.
     passive: Vec<(usize, usize, f64, f64)>,
+    /// Joint stops: their gains, and per limited one-dof actuated joint (actuated index,
+    /// index in q, lower, upper) with whether it is past a limit now.
+    stops: Option<JointStops>,
+    stop_joints: Vec<(usize, usize, f64, f64)>,
+    stop_active: Vec<bool>,
     /// The actuated joints' positions, velocities and torque command (scratch).
     q_a: Vec<f64>,
     v_a: Vec<f64>,
@@ -145,6 +161,9 @@ impl Actuators {
             drive_lead: 0.0,
             implicit_step: None,
             passive: Vec::new(),
+            stops: None,
+            stop_joints: Vec::new(),
+            stop_active: Vec::new(),
             q_a: vec![0.0; na],
             v_a: vec![0.0; na],
             tau_a: vec![0.0; na],
@@ -211,6 +230,45 @@ impl Actuators {
             passive.push((joint.idx_v - self.first, joint.idx_q, k, d));
         }
         self.passive = passive;
+        Ok(())
+    }
+
+    /// Puts stops at the position limits of every one-dof actuated joint with finite limits.
+    pub fn set_stops(&mut self, model: &Model, stops: Option<JointStops>) -> Result<()> {
+        if let Some(st) = stops {
+            if !(st.stiffness.is_finite() && st.stiffness > 0.0) {
+                return Err(SimError::Setting {
+                    name: "joint_stops.stiffness".into(),
+                    reason: format!("{} (must be finite and > 0)", st.stiffness),
+                });
+            }
+            if !(st.damping.is_finite() && st.damping >= 0.0) {
+                return Err(SimError::Setting {
+                    name: "joint_stops.damping".into(),
+                    reason: format!("{} (must be finite and ≥ 0)", st.damping),
+                });
+            }
+        }
+        self.stops = stops;
+        self.stop_joints.clear();
+        if stops.is_some() {
+            for joint in &model.joints {
+                let (lo, up) = (
+                    model.lower_position_limit.get(joint.idx_q).copied(),
+                    model.upper_position_limit.get(joint.idx_q).copied(),
+                );
+                if joint.nq() != 1 || joint.nv() != 1 || joint.idx_v < self.first {
+                    continue;
+                }
+                if let (Some(lo), Some(up)) = (lo, up) {
+                    if lo.is_finite() && up.is_finite() && lo < up {
+                        self.stop_joints
+                            .push((joint.idx_v - self.first, joint.idx_q, lo, up));
+                    }
+                }
+            }
+        }
+        self.stop_active = vec![false; self.stop_joints.len()];
         Ok(())
     }
 
@@ -382,6 +440,21 @@ impl Actuators {
         for &(k, iq, stiffness, damping) in &self.passive {
             tau[f + k] = -stiffness * q[iq] - damping * v[f + k];
         }
+        if let Some(st) = self.stops {
+            for (s, &(k, iq, lo, up)) in self.stop_active.iter_mut().zip(&self.stop_joints) {
+                let past = if q[iq] > up {
+                    q[iq] - up
+                } else if q[iq] < lo {
+                    q[iq] - lo
+                } else {
+                    0.0
+                };
+                *s = past != 0.0;
+                if *s {
+                    tau[f + k] += -st.stiffness * past - st.damping * v[f + k];
+                }
+            }
+        }
     }
 
     /// The servo's linearization for an implicit step, over the actuated joints: writes
@@ -422,6 +495,14 @@ impl Actuators {
         for &(k, _, kp, kd) in &self.passive {
             stiffness[k] = kp;
             damping[k] = kd;
+        }
+        if let Some(st) = self.stops {
+            for (&active, &(k, ..)) in self.stop_active.iter().zip(&self.stop_joints) {
+                if active {
+                    stiffness[k] += st.stiffness;
+                    damping[k] += st.damping;
+                }
+            }
         }
     }
 }

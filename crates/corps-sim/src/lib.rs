@@ -53,7 +53,7 @@ mod sensors;
 mod simulator;
 mod terrain;
 
-pub use actuation::{first_actuated, Actuators, Command, IntegralTerm, ServoGains};
+pub use actuation::{first_actuated, Actuators, Command, IntegralTerm, JointStops, ServoGains};
 pub use contact::{point_force, Anchor, ContactParams, PointForce, PointLinearization};
 pub use contact_points::{sample_contact_points, ContactPoint, ShapeBound};
 pub use disturbance::{PlacedPush, Push};

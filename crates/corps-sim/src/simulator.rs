@@ -45,6 +45,8 @@ pub struct SimSettings {
     pub contact: ContactParams,
     /// Gravity (m/s², world frame).
     pub gravity: [f64; 3],
+    /// Stops at the joints' URDF position limits (absent: none, the joints pass them).
+    pub joint_stops: Option<crate::actuation::JointStops>,
 }
 
 impl Default for SimSettings {
@@ -55,6 +57,7 @@ impl Default for SimSettings {
             integrator: Integrator::Rk4,
             contact: ContactParams::default(),
             gravity: [0.0, 0.0, -corps_model::STANDARD_GRAVITY],
+            joint_stops: None,
         }
     }
 }
@@ -224,6 +227,8 @@ impl Simulator {
             settings,
             terrain,
         };
+        let stops = sim.settings.joint_stops;
+        sim.actuators.set_stops(&sim.model, stops)?;
         // `data()` holds the kinematics of the current state from the start, as after a step.
         let (model, data) = (&*sim.model, &mut sim.data);
         let (v, a) = (sim.v.as_slice(), sim.acceleration.as_slice());

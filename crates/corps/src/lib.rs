@@ -4,6 +4,7 @@
 
 pub mod actuator_cmd;
 pub mod interrupt;
+pub mod learn;
 pub mod output;
 pub mod progress;
 pub mod run;

@@ -4,7 +4,7 @@
 mod model_cmd;
 mod robot_cmd;
 
-use corps::{actuator_cmd, run, sim_cmd, teleop};
+use corps::{actuator_cmd, learn, run, sim_cmd, teleop};
 
 use clap::{Parser, Subcommand};
 
@@ -40,6 +40,9 @@ enum Command {
     /// Joint actuators (seed 000 ch. 3): identification, thermal model, current-limiting MPC.
     #[command(subcommand)]
     Actuator(actuator_cmd::ActuatorCommand),
+    /// Learn a controller's task weights (seed 001 ch. 5) with the constrained (1+1)-CMA-ES
+    /// over randomized rollouts (a campaign file, TOML).
+    Learn(learn::LearnArgs),
 }
 
 fn main() {
@@ -53,6 +56,7 @@ fn main() {
         Some(Command::Run(args)) => run::run(args),
         Some(Command::Teleop(args)) => teleop::run(args),
         Some(Command::Actuator(cmd)) => actuator_cmd::run(cmd),
+        Some(Command::Learn(args)) => learn::run(args),
     };
     if let Err(e) = result {
         if let Some(stop) = e.downcast_ref::<corps::interrupt::Interrupted>() {

@@ -184,6 +184,19 @@ impl Observer<ScenarioController> for Recorder<'_, '_> {
             ..est.feet[k]
         });
         contact.zmp = corps_estimation::zmp_of_feet(&sensed).map(|p| [p.x, p.y]);
+        let commanded = match corps_loop::Controller::command(tick.controller) {
+            corps_loop::Command::Torque(t) => Some(t),
+            _ => None,
+        };
+        sum_tick(
+            m,
+            &s.model,
+            truth,
+            commanded,
+            targets,
+            &placements,
+            contact.zmp,
+        );
         self.tick_time.push(tick.tick_us);
         if let Some(r) = tick.fallback {
             m.fallbacks += 1;
@@ -383,4 +396,56 @@ fn record(
     m.base_drift_peak = m.base_drift_peak.max(drift);
     m.min_base_height = m.min_base_height.min(s.base.z);
     m.other_contact_peak = m.other_contact_peak.max(s.contact.other);
+}
+
+/// Folds one tick into [`crate::metrics::RunSums`].
+fn sum_tick(
+    m: &mut Metrics,
+    model: &Model,
+    truth: &Truth,
+    commanded: Option<&nalgebra::DVector<f64>>,
+    targets: &Targets,
+    placements: &[Se3; 2],
+    zmp: Option<[f64; 2]>,
+) {
+    let sums = &mut m.sums;
+    sums.samples += 1;
+    let com_ref = &targets.com.pos;
+    let mut e2 = (0..3)
+        .map(|a| (truth.com[a] - com_ref[a]).powi(2))
+        .sum::<f64>();
+    for (k, p) in placements.iter().enumerate() {
+        e2 += (p.translation - targets.feet[k].reference.placement.translation).norm_squared();
+    }
+    sums.task_error_square_sum += e2;
+    // The controller's torques where it commands torques (the motors' effort), else the
+    // joints' applied torques.
+    let tau = commanded.unwrap_or(&truth.applied_torques);
+    sums.torque_square_sum += tau.norm_squared();
+    sums.torque_peak = sums.torque_peak.max(tau.amax());
+    let (mut centre, mut n) = (nalgebra::Vector2::zeros(), 0.0);
+    for (k, p) in placements.iter().enumerate() {
+        if targets.feet[k].supporting {
+            centre += p.translation.xy();
+            n += 1.0;
+        }
+    }
+    if let (Some([x, y]), true) = (zmp, n > 0.0) {
+        centre /= n;
+        sums.zmp_support_square_sum += (x - centre.x).powi(2) + (y - centre.y).powi(2);
+    }
+    for joint in &model.joints {
+        if joint.nq() != 1 || joint.idx_v < model.first_actuated() {
+            continue;
+        }
+        let (q, i) = (truth.q[joint.idx_q], joint.idx_q);
+        let excess = (q - model.upper_position_limit[i]).max(model.lower_position_limit[i] - q);
+        if excess > sums.joint_limit_excess {
+            sums.joint_limit_excess = excess;
+            // A new worst joint: rare, and only then is its name copied.
+            if sums.joint_limit_excess_joint.as_deref() != Some(joint.name.as_str()) {
+                sums.joint_limit_excess_joint = Some(joint.name.clone());
+            }
+        }
+    }
 }
