@@ -9,7 +9,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::collections::VecDeque;
 
-/// How many ancestors back the active update compares with (seed 001 L5744–L5760).
+/// How many ancestors back the active update compares with: the parent's fifth, w₋₅ in seed
+/// 001's notation (L5744–L5760; Arnold & Hansen count from the offspring, one fewer).
 const ANCESTORS: usize = 5;
 
 /// The strategy's constants for dimension n (seed 001 Eq 5.2a–h).

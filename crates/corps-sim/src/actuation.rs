@@ -141,6 +141,8 @@ pub struct Actuators {
     stops: Option<JointStops>,
     stop_joints: Vec<(usize, usize, f64, f64)>,
     stop_active: Vec<bool>,
+    /// The stops' torque of the last [`Actuators::torques`], per actuated joint.
+    stop_torque: Vec<f64>,
     /// The actuated joints' positions, velocities and torque command (scratch).
     q_a: Vec<f64>,
     v_a: Vec<f64>,
@@ -164,6 +166,7 @@ impl Actuators {
             stops: None,
             stop_joints: Vec::new(),
             stop_active: Vec::new(),
+            stop_torque: Vec::new(),
             q_a: vec![0.0; na],
             v_a: vec![0.0; na],
             tau_a: vec![0.0; na],
@@ -269,6 +272,7 @@ impl Actuators {
             }
         }
         self.stop_active = vec![false; self.stop_joints.len()];
+        self.stop_torque = vec![0.0; self.q_a.len()];
         Ok(())
     }
 
@@ -450,9 +454,13 @@ impl Actuators {
                     0.0
                 };
                 *s = past != 0.0;
-                if *s {
-                    tau[f + k] += -st.stiffness * past - st.damping * v[f + k];
-                }
+                let t = if *s {
+                    -st.stiffness * past - st.damping * v[f + k]
+                } else {
+                    0.0
+                };
+                self.stop_torque[k] = t;
+                tau[f + k] += t;
             }
         }
     }
@@ -477,7 +485,9 @@ impl Actuators {
                 }
                 _ => model.effort_limit[f + k],
             };
-            let saturated = tau[f + k].abs() >= clamp;
+            // The servo's own torque (a stop's reaction is not the motor's).
+            let stop = self.stop_torque.get(k).copied().unwrap_or(0.0);
+            let saturated = (tau[f + k] - stop).abs() >= clamp;
             let drive = match (&self.drives, cmd) {
                 (Some(d), Command::Torque(_)) => d.drive(k),
                 _ => None,

@@ -93,7 +93,8 @@ fn a_short_campaign_improves_and_never_takes_an_infeasible_fitness() {
 #[test]
 fn a_resumed_campaign_ends_as_an_uninterrupted_one_on_any_thread_count() {
     let dir = tempfile::tempdir().unwrap();
-    let campaign = "campaigns/icub/phi_pr_no_dr.toml";
+    // Randomized: the start's several draws are replayed too.
+    let campaign = "campaigns/icub/phi_pr.toml";
     let (a, b, c) = (
         dir.path().join("a"),
         dir.path().join("b"),
@@ -113,13 +114,31 @@ fn a_resumed_campaign_ends_as_an_uninterrupted_one_on_any_thread_count() {
         .to_vec()
     };
     ok(&learn(&strs(&args(&a, "6")), Some(2)));
-    // The campaign "interrupted" after 3 iterations: a cut last line too.
+    // The campaign "interrupted" after 3 iterations, its last row written but not its newline
+    // (that row is run again).
     ok(&learn(&strs(&args(&b, "3")), Some(1)));
     let mut text = std::fs::read_to_string(b.join("evaluations.csv")).unwrap();
-    text.push_str("4,0,-0.2");
-    std::fs::write(b.join("evaluations.csv"), text).unwrap();
+    let last = text.lines().last().unwrap().to_string();
+    text.truncate(text.len() - last.len() - 1);
+    let cut = text.clone() + &last;
+    std::fs::write(b.join("evaluations.csv"), cut).unwrap();
     let resumed = ok(&learn(&strs(&args(&b, "6")), Some(2)));
-    assert!(resumed.contains("8 evaluations replayed"), "{resumed}");
+    assert!(resumed.contains("7 evaluations replayed"), "{resumed}");
+    // Another campaign into the same directory is refused.
+    let other = learn(
+        &[
+            "campaigns/icub/phi_r.toml",
+            "--iterations",
+            "6",
+            "--repeats",
+            "2",
+            "-o",
+            b.to_str().unwrap(),
+        ],
+        None,
+    );
+    assert!(!other.status.success());
+    assert!(String::from_utf8_lossy(&other.stderr).contains("another campaign"));
     ok(&learn(&strs(&args(&c, "6")), Some(1)));
     let learned = |d: &Path| std::fs::read_to_string(d.join("learned.csv")).unwrap();
     assert_eq!(learned(&a), learned(&b), "resumed against uninterrupted");

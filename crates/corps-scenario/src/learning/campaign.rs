@@ -112,6 +112,20 @@ impl Campaign {
             crate::run::RunOptions::default(),
         )
         .map_err(|e| invalid!("the start weights in {}: {e}", path.display()))?;
+        // Each test run builds too (its robot, its conditions), before any training.
+        if let (Some(spec), Some((scenario, base_dir))) = (&campaign.config.test, &campaign.test) {
+            for (k, run) in spec.runs.iter().enumerate() {
+                let mut s = rollout_scenario(scenario, &campaign.config, &start, false, 0);
+                s.robot = crate::scenario::RobotSection::from_argument(&test_robot(run, dir));
+                crate::run::ScenarioRun::new(
+                    &s,
+                    "probe",
+                    base_dir,
+                    crate::run::RunOptions::default(),
+                )
+                .map_err(|e| invalid!("test.runs[{k}] ('{}'): {e}", run.name))?;
+            }
+        }
         Ok(campaign)
     }
 
@@ -138,12 +152,7 @@ impl Campaign {
                     run.randomize,
                     rollout_seed(seed, k, usize::MAX - 1, 0),
                 );
-                let robot = if run.robot.ends_with(".toml") {
-                    dir.join(&run.robot).display().to_string()
-                } else {
-                    run.robot.clone()
-                };
-                s.robot = crate::scenario::RobotSection::from_argument(&robot);
+                s.robot = crate::scenario::RobotSection::from_argument(&test_robot(run, dir));
                 let o = run_rollout(&s, base_dir);
                 let steps: usize = o.metrics.feet.iter().map(|f| f.landings).sum();
                 TestOutcome {
@@ -217,15 +226,15 @@ impl Campaign {
 
     /// Runs repeat `repeat` for `iterations`, calling `record` after each evaluation.
     /// `known` holds evaluations already made (an interrupted run's file): those are replayed,
-    /// not run again; their weights must be the ones the replay draws. A raised `stop` ends
-    /// the repeat between two evaluations (`ScenarioError::Interrupted`).
+    /// not run again; their weights must be the ones the replay draws. `stop` returning true
+    /// ends the repeat between two evaluations (`ScenarioError::Interrupted`).
     pub fn run_repeat(
         &self,
         repeat: usize,
         iterations: usize,
         known: &BTreeMap<usize, Evaluation>,
         record: &(dyn Fn(&Evaluation) + Sync),
-        stop: Option<&std::sync::atomic::AtomicBool>,
+        stop: &(dyn Fn() -> bool + Sync),
     ) -> Result<RepeatResult> {
         let c = &self.config;
         let free: Vec<_> = c.free().collect();
@@ -336,7 +345,7 @@ impl Campaign {
         };
         emit(&es);
         for it in 1..=iterations {
-            if stop.is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed)) {
+            if stop() {
                 return Err(crate::ScenarioError::Interrupted { t: 0.0 });
             }
             iteration.set(it);
@@ -355,6 +364,15 @@ impl Campaign {
             best_weights: self.weights(es.best()),
             best_fitness: -es.best_fitness(),
         })
+    }
+}
+
+/// A test run's robot: a built-in name, or a description file relative to the campaign.
+fn test_robot(run: &super::TestRun, dir: &Path) -> String {
+    if run.robot.ends_with(".toml") {
+        dir.join(&run.robot).display().to_string()
+    } else {
+        run.robot.clone()
     }
 }
 

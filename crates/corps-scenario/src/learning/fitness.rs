@@ -20,7 +20,10 @@ pub fn fitness(kind: FitnessKind, outcome: &RolloutOutcome, penalty: f64) -> f64
         FitnessKind::Robustness => robustness,
         FitnessKind::PerformanceRobustness => 0.5 * (performance + robustness),
     };
-    let phi = if phi.is_finite() { phi } else { 0.0 };
+    // A rollout whose sums are not finite is the worst there is.
+    if !phi.is_finite() {
+        return f64::NEG_INFINITY;
+    }
     if outcome.failed {
         phi + penalty
     } else {

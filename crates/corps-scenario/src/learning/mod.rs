@@ -272,30 +272,13 @@ impl LearnConfig {
         if !self.penalty.is_finite() {
             bail!("penalty: must be finite");
         }
-        let r = &self.randomization;
-        for (what, v) in [
-            ("force_noise", r.force_noise),
-            ("torque_noise", r.torque_noise),
-            ("joint_velocity_noise", r.joint_velocity_noise),
-            ("com_offset", r.com_offset),
-            ("push_force", r.push_force),
-            ("push_torque", r.push_torque),
-        ] {
-            if !(v.is_finite() && v >= 0.0) {
-                bail!("randomization.{what}: must be a finite number ≥ 0, got {v}");
-            }
-        }
-        for (what, v) in [
-            ("push_duration", r.push_duration),
-            ("push_before", r.push_before),
-        ] {
-            if r.pushes > 0 && !(v.is_finite() && v > 0.0) {
-                bail!("randomization.{what}: the range (0, {v}] is empty");
-            }
-        }
+        check_randomization(&self.randomization, "randomization")?;
         if let Some(t) = &self.test {
             if t.runs.is_empty() || t.steps == 0 {
                 bail!("test: needs at least one run and steps ≥ 1");
+            }
+            for (k, run) in t.runs.iter().enumerate() {
+                check_randomization(&run.randomization, &format!("test.runs[{k}].randomization"))?;
             }
         }
         Ok(())
@@ -305,4 +288,31 @@ impl LearnConfig {
     pub fn free(&self) -> impl Iterator<Item = &WeightSpec> {
         self.weights.iter().filter(|w| !w.fixed())
     }
+}
+
+/// Noise levels and ranges finite and not negative; ranges not empty.
+fn check_randomization(r: &Randomization, key: &str) -> Result<()> {
+    {
+        for (what, v) in [
+            ("force_noise", r.force_noise),
+            ("torque_noise", r.torque_noise),
+            ("joint_velocity_noise", r.joint_velocity_noise),
+            ("com_offset", r.com_offset),
+            ("push_force", r.push_force),
+            ("push_torque", r.push_torque),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                bail!("{key}.{what}: must be a finite number ≥ 0, got {v}");
+            }
+        }
+        for (what, v) in [
+            ("push_duration", r.push_duration),
+            ("push_before", r.push_before),
+        ] {
+            if r.pushes > 0 && !(v.is_finite() && v > 0.0) {
+                bail!("{key}.{what}: the range (0, {v}] is empty");
+            }
+        }
+    }
+    Ok(())
 }

@@ -69,8 +69,14 @@ pub fn read(path: &Path, names: &[String]) -> Result<BTreeMap<usize, BTreeMap<us
     let n = names.len();
     let all: Vec<&str> = lines.collect();
     let complete = text.ends_with('\n');
+    // A last line without its newline was cut while written: dropped whatever it holds (the
+    // evaluation is run again).
+    let all = if complete {
+        &all[..]
+    } else {
+        &all[..all.len().saturating_sub(1)]
+    };
     for (k, line) in all.iter().enumerate() {
-        let last = k + 1 == all.len();
         let cells: Vec<&str> = line.split(',').collect();
         let parsed = (|| -> Option<Evaluation> {
             if cells.len() != 4 + n + TAIL.len() {
@@ -105,7 +111,6 @@ pub fn read(path: &Path, names: &[String]) -> Result<BTreeMap<usize, BTreeMap<us
             Some(e) => {
                 out.entry(e.repeat).or_default().insert(e.iteration, e);
             }
-            None if last && !complete => {}
             None => bail!("{}: line {} is not an evaluation", path.display(), k + 2),
         }
     }

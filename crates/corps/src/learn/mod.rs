@@ -66,8 +66,27 @@ pub fn run(args: LearnArgs) -> Result<()> {
     let names: Vec<String> = c.weights.iter().map(|w| w.name.clone()).collect();
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     let evaluations = out.join("evaluations.csv");
+    // The campaign a directory holds: its file's text and seed; a rerun resumes only the same
+    // campaign (more iterations or repeats may be asked).
+    let text = std::fs::read_to_string(&args.campaign)
+        .with_context(|| format!("reading {}", args.campaign.display()))?;
+    let fingerprint = format!("seed = {}\n{text}", c.seed);
+    let stamp = out.join("campaign.toml");
+    match std::fs::read_to_string(&stamp) {
+        Ok(old) if old != fingerprint => bail!(
+            "{}: holds another campaign (or this one with another seed): choose another -o",
+            out.display()
+        ),
+        Ok(_) => {}
+        Err(_) if evaluations.exists() => bail!(
+            "{}: has evaluations but no campaign.toml to tell which campaign they are: choose another -o",
+            out.display()
+        ),
+        Err(_) => {}
+    }
     let known = csv::read(&evaluations, &names)?;
     let resumed: usize = known.values().map(BTreeMap::len).sum();
+    std::fs::write(&stamp, &fingerprint).with_context(|| format!("writing {}", stamp.display()))?;
     let file = csv::open_for_append(&evaluations, &names)?;
     let file = Mutex::new(file);
 
@@ -90,7 +109,8 @@ pub fn run(args: LearnArgs) -> Result<()> {
             .is_some_and(|m| m.contains_key(&e.iteration));
         if !replayed {
             if let Ok(mut f) = file.lock() {
-                if let Err(err) = writeln!(f, "{}", csv::row(e)).and_then(|_| f.flush()) {
+                let line = format!("{}\n", csv::row(e));
+                if let Err(err) = f.write_all(line.as_bytes()).and_then(|_| f.flush()) {
                     write_error.lock().map(|mut w| *w = Some(err)).ok();
                 }
             }
@@ -108,16 +128,21 @@ pub fn run(args: LearnArgs) -> Result<()> {
         bar.inc(1);
     };
     let empty = BTreeMap::new();
+    // A repeat that fails stops the others at their next evaluation.
+    let abort = std::sync::atomic::AtomicBool::new(false);
+    let stop = || {
+        crate::interrupt::FLAG.load(std::sync::atomic::Ordering::Relaxed)
+            || abort.load(std::sync::atomic::Ordering::Relaxed)
+    };
     let results: Vec<_> = (0..c.repeats)
         .into_par_iter()
         .map(|r| {
-            campaign.run_repeat(
-                r,
-                c.iterations,
-                known.get(&r).unwrap_or(&empty),
-                &record,
-                Some(&crate::interrupt::FLAG),
-            )
+            let result =
+                campaign.run_repeat(r, c.iterations, known.get(&r).unwrap_or(&empty), &record, &stop);
+            if matches!(&result, Err(e) if !matches!(e, corps_scenario::ScenarioError::Interrupted { .. })) {
+                abort.store(true, std::sync::atomic::Ordering::Relaxed);
+            }
+            result
         })
         .collect();
     bar.finish_and_clear();
@@ -125,6 +150,12 @@ pub fn run(args: LearnArgs) -> Result<()> {
     let rollouts_run = campaign.rollouts();
     if let Some(err) = write_error.into_inner().unwrap_or(None) {
         bail!("writing {}: {err}", evaluations.display());
+    }
+    // A failed repeat's error first (the others stopped because of it).
+    if let Some(Err(e)) = results.iter().find(
+        |r| matches!(r, Err(e) if !matches!(e, corps_scenario::ScenarioError::Interrupted { .. })),
+    ) {
+        bail!("{}: {e}", args.campaign.display());
     }
     let mut learned = Vec::with_capacity(results.len());
     for r in results {
@@ -174,7 +205,11 @@ pub fn run(args: LearnArgs) -> Result<()> {
         let outcomes: Vec<_> = candidates
             .par_iter()
             .enumerate()
-            .map(|(k, (who, w))| (who.clone(), campaign.test(w, c.seed ^ (k as u64 + 1), &dir)))
+            .map(|(k, (who, w))| {
+                let seed =
+                    corps_scenario::learning::rollout::rollout_seed(c.seed, k, usize::MAX - 2, 0);
+                (who.clone(), campaign.test(w, seed, &dir))
+            })
             .collect();
         let mut csv_text = String::from("weights,run,success,steps,verdict\n");
         let mut counts: BTreeMap<String, (usize, usize)> = BTreeMap::new();
