@@ -110,29 +110,8 @@ fn drives_step_without_allocating(mut settings: SimSettings) {
 #[test]
 fn a_plant_with_hidden_joints_steps_and_reads_without_allocating() {
     use corps_loop::Plant;
-    let robot = corps_robot::Robot::built_in("talos_flexible_hip")
-        .unwrap()
-        .unwrap();
-    let variant = robot.plant.clone().unwrap();
+    let (mut plant, robot, q0) = flexible_talos();
     let rigid = robot.model.clone();
-    let map = HiddenJoints::new(&rigid, &variant.model).unwrap();
-    let mut q0 = robot.posture.clone();
-    place_on_ground(&rigid, q0.as_mut_slice(), 0.0).unwrap();
-    let (q, _) = map.widen_state(q0.as_slice(), &vec![0.0; rigid.nv]);
-    let model = variant.model.clone();
-    let gains = ServoGains::high_gain(&model, q.as_slice(), 0.02, 1.0).unwrap();
-    let settings = SimSettings {
-        integrator: Integrator::ImplicitEuler,
-        ..Default::default()
-    };
-    let terrain = Terrain::preset(TerrainPreset::Flat, 0.8);
-    let mut sim = Simulator::new(model.clone(), terrain, settings, q.as_slice(), gains).unwrap();
-    let passive: Vec<_> = (variant.passive.iter())
-        .map(|p| (p.joint, p.stiffness, p.damping))
-        .collect();
-    sim.set_passive_joints(&passive).unwrap();
-    let sensors = Sensors::new(&model, &talos_layout(), SensorNoise::default(), 0).unwrap();
-    let mut plant = WithHiddenJoints::new(SimulatedRobot::new(sim, sensors, Overlap::Never), map);
     let mut sensed = plant.sensed();
     let cmd = hold(&rigid, &q0);
     plant.step(&cmd).unwrap(); // the first step sizes the widened command

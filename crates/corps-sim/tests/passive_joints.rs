@@ -104,22 +104,7 @@ fn hidden_joints_never_reach_the_readings() {
     map.narrow_q(q.as_slice(), back.as_mut_slice());
     assert_eq!(back, q0, "widen then narrow is the identity");
 
-    let model = variant.model.clone();
-    let gains = ServoGains::high_gain(&model, q.as_slice(), 0.02, 1.0).unwrap();
-    let settings = SimSettings {
-        integrator: Integrator::ImplicitEuler,
-        ..Default::default()
-    };
-    let terrain = Terrain::preset(TerrainPreset::Flat, 0.8);
-    let mut sim = Simulator::new(model.clone(), terrain, settings, q.as_slice(), gains).unwrap();
-    let passive: Vec<_> = (variant.passive.iter())
-        .map(|p| (p.joint, p.stiffness, p.damping))
-        .collect();
-    sim.set_passive_joints(&passive).unwrap();
-    let layout = SensorLayout::of(&robot, ForceTorqueModel::default());
-    let sensors = Sensors::new(&model, &layout, SensorNoise::default(), 0).unwrap();
-    let plant = SimulatedRobot::new(sim, sensors, Overlap::Never);
-    let mut plant = WithHiddenJoints::new(plant, map);
+    let (mut plant, _, _) = common::flexible_talos();
     let mut sensed = plant.sensed();
     let na = rigid.nv - rigid.first_actuated();
     assert_eq!(sensed.readings.joint_positions.len(), na);

@@ -138,3 +138,37 @@ pub fn pendulum() -> Arc<Model> {
     );
     Arc::new(build_model_from_urdf_str(&urdf, RootJoint::Fixed).unwrap())
 }
+
+/// The flexible-hip TALOS standing on the ground under implicit Euler, seen through its rigid
+/// model: the plant, the description and the rigid standing configuration.
+pub fn flexible_talos() -> (
+    WithHiddenJoints<SimulatedRobot>,
+    corps_robot::Robot,
+    DVector<f64>,
+) {
+    let robot = corps_robot::Robot::built_in("talos_flexible_hip")
+        .unwrap()
+        .unwrap();
+    let variant = robot.plant.clone().unwrap();
+    let rigid = robot.model.clone();
+    let map = HiddenJoints::new(&rigid, &variant.model).unwrap();
+    let mut q0 = robot.posture.clone();
+    place_on_ground(&rigid, q0.as_mut_slice(), 0.0).unwrap();
+    let (q, _) = map.widen_state(q0.as_slice(), &vec![0.0; rigid.nv]);
+    let model = variant.model.clone();
+    let gains = ServoGains::high_gain(&model, q.as_slice(), 0.02, 1.0).unwrap();
+    let settings = SimSettings {
+        integrator: Integrator::ImplicitEuler,
+        ..Default::default()
+    };
+    let terrain = Terrain::preset(TerrainPreset::Flat, 0.8);
+    let mut sim = Simulator::new(model.clone(), terrain, settings, q.as_slice(), gains).unwrap();
+    let passive: Vec<_> = (variant.passive.iter())
+        .map(|p| (p.joint, p.stiffness, p.damping))
+        .collect();
+    sim.set_passive_joints(&passive).unwrap();
+    let layout = SensorLayout::of(&robot, ForceTorqueModel::Contact);
+    let sensors = Sensors::new(&model, &layout, SensorNoise::default(), 0).unwrap();
+    let plant = WithHiddenJoints::new(SimulatedRobot::new(sim, sensors, Overlap::Never), map);
+    (plant, robot, q0)
+}
