@@ -209,7 +209,12 @@ impl LearnConfig {
     /// Reads and checks the campaign file at `path`.
     pub fn read(path: &Path) -> Result<(LearnConfig, PathBuf)> {
         let text = crate::overrides::read_file(path).map_err(|e| crate::error::invalid!("{e}"))?;
-        let config: LearnConfig = corps_robot::toml_text::parse(&text)
+        Self::parse(&text, path)
+    }
+
+    /// Parses and checks campaign `text` read from `path` (relative paths from its directory).
+    pub fn parse(text: &str, path: &Path) -> Result<(LearnConfig, PathBuf)> {
+        let config: LearnConfig = corps_robot::toml_text::parse(text)
             .map_err(|e| crate::error::invalid!("{}: {e}", path.display()))?;
         config
             .check()

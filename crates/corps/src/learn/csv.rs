@@ -152,8 +152,11 @@ pub fn write_learned(path: &Path, names: &[String], learned: &[RepeatResult]) ->
         let w: Vec<String> = r.best_weights.iter().map(|w| format!("{w:.17e}")).collect();
         text += &format!("{},{:.17e},{}\n", r.repeat, r.best_fitness, w.join(","));
     }
-    let tmp = path.with_extension("csv.partial");
-    std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .and_then(|n| n.to_str())
+        .unwrap_or("learned.csv");
+    crate::output::write_atomic(dir, name, text.as_bytes())?;
     Ok(())
 }

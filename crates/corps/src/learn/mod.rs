@@ -40,7 +40,9 @@ pub struct LearnArgs {
 }
 
 pub fn run(args: LearnArgs) -> Result<()> {
-    let (mut config, dir) = LearnConfig::read(&args.campaign).map_err(|e| anyhow!("{e}"))?;
+    let text = corps_scenario::overrides::read_file(&args.campaign).map_err(|e| anyhow!("{e}"))?;
+    let (mut config, dir) =
+        LearnConfig::parse(&text, &args.campaign).map_err(|e| anyhow!("{e}"))?;
     if let Some(n) = args.iterations {
         config.iterations = n;
     }
@@ -68,8 +70,6 @@ pub fn run(args: LearnArgs) -> Result<()> {
     let evaluations = out.join("evaluations.csv");
     // The campaign a directory holds: its file's text and seed; a rerun resumes only the same
     // campaign (more iterations or repeats may be asked).
-    let text = std::fs::read_to_string(&args.campaign)
-        .with_context(|| format!("reading {}", args.campaign.display()))?;
     let fingerprint = format!("seed = {}\n{text}", c.seed);
     let stamp = out.join("campaign.toml");
     match std::fs::read_to_string(&stamp) {

@@ -13,7 +13,6 @@ pub fn fitness(
     iterations: usize,
     rows: &BTreeMap<usize, BTreeMap<usize, Evaluation>>,
 ) -> Result<()> {
-    crate::sim_cmd::plots::register_font();
     // Per iteration: (min, mean, max) over repeats of the best fitness so far.
     let mut stats = Vec::with_capacity(iterations + 1);
     for it in 0..=iterations {
@@ -38,15 +37,9 @@ pub fn fitness(
         (y0, y1) = (-1.0, 0.0);
     }
     let pad = ((y1 - y0) * 0.05).max(1e-9);
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{name}.{}.partial.png", std::process::id()));
-    {
-        let root = BitMapBackend::new(&tmp, (1000, 600)).into_drawing_area();
+    crate::sim_cmd::plots::draw_png(path, (1000, 600), |root| {
         root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(root)
             .caption(
                 format!("{title}: best fitness over the iterations"),
                 ("sans-serif", 22),
@@ -91,8 +84,6 @@ pub fn fitness(
             .position(SeriesLabelPosition::LowerRight)
             .draw()
             .map_err(|e| anyhow!("{e}"))?;
-        root.present().map_err(|e| anyhow!("{e}"))?;
-    }
-    std::fs::rename(&tmp, path)?;
-    Ok(())
+        Ok(())
+    })
 }

@@ -1,7 +1,7 @@
 //! A top view (world x, y, equal scales) of paths: a walk with a person drawn as the person's
 //! path, the point the robot should hold and the robot's CoM.
 
-use anyhow::{anyhow, Context, Result};
+use anyhow::{anyhow, Result};
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -14,7 +14,6 @@ pub struct TopPath<'a> {
 
 /// Draws `paths` into `path` (PNG) with `title`, through a temporary file renamed at the end.
 pub fn draw(path: &Path, title: &str, paths: &[TopPath<'_>]) -> Result<()> {
-    crate::sim_cmd::plots::register_font();
     let points = |p: &TopPath<'_>| -> Vec<(f64, f64)> {
         p.x.iter()
             .zip(p.y)
@@ -38,15 +37,9 @@ pub fn draw(path: &Path, title: &str, paths: &[TopPath<'_>]) -> Result<()> {
     // Equal scales: the larger span on both axes, with a margin.
     let span = (x1 - x0).max(y1 - y0).max(0.5) * 1.1;
     let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = path.with_file_name(format!(".{name}.{}.partial.png", std::process::id()));
-    {
-        let root = BitMapBackend::new(&tmp, (900, 900)).into_drawing_area();
+    crate::sim_cmd::plots::draw_png(path, (900, 900), |root| {
         root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
-        let mut chart = ChartBuilder::on(&root)
+        let mut chart = ChartBuilder::on(root)
             .caption(title, ("sans-serif", 22))
             .margin(12)
             .x_label_area_size(40)
@@ -89,7 +82,6 @@ pub fn draw(path: &Path, title: &str, paths: &[TopPath<'_>]) -> Result<()> {
             .position(SeriesLabelPosition::UpperLeft)
             .draw()
             .map_err(|e| anyhow!("{e}"))?;
-        root.present().map_err(|e| anyhow!("{e}"))?;
-    }
-    std::fs::rename(&tmp, path).with_context(|| format!("renaming {}", tmp.display()))
+        Ok(())
+    })
 }

@@ -262,9 +262,28 @@ pub(crate) fn draw_figure(
     panels: &[Panel],
     cols: usize,
 ) -> Result<()> {
-    register_font();
     let rows = panels.len().div_ceil(cols);
     let (w, h) = (1400u32, 80 + 300 * rows as u32);
+    draw_png(path, (w, h), |root| {
+        root.fill(&WHITE).map_err(plot_error)?;
+        let root = root.titled(title, ("sans-serif", 26)).map_err(plot_error)?;
+        let areas = root.split_evenly((rows, cols));
+        for (panel, area) in panels.iter().zip(areas.iter()) {
+            draw_panel(area, panel, t)?;
+        }
+        Ok(())
+    })
+}
+
+/// Draws a `size` PNG at `path` with `draw`, through a temporary file of this process renamed
+/// at the end, so a failed plot never leaves half an image over a previous one. The font is
+/// registered first.
+pub(crate) fn draw_png(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, plotters::coord::Shift>) -> Result<()>,
+) -> Result<()> {
+    register_font();
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -273,13 +292,8 @@ pub(crate) fn draw_figure(
     // which is the process's own.
     let tmp = path.with_file_name(format!(".{name}.{}.partial.png", std::process::id()));
     {
-        let root = BitMapBackend::new(&tmp, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(plot_error)?;
-        let root = root.titled(title, ("sans-serif", 26)).map_err(plot_error)?;
-        let areas = root.split_evenly((rows, cols));
-        for (panel, area) in panels.iter().zip(areas.iter()) {
-            draw_panel(area, panel, t)?;
-        }
+        let root = BitMapBackend::new(&tmp, size).into_drawing_area();
+        draw(&root)?;
         root.present().map_err(plot_error)?;
     }
     std::fs::rename(&tmp, path).with_context(|| format!("renaming {}", tmp.display()))?;
