@@ -2,10 +2,12 @@
 
     python -m corps run SCENARIO [--plant corps|mujoco] [--robot R] [--duration S] [--csv FILE]
     python -m corps crossval [--robot talos] [--markdown]
+    python -m corps learn CAMPAIGN [--iterations N] [--repeats R] [--seed S] [-o DIR] [--ray ADDRESS]
 
 `run` prints the metrics as `corps run` does (and writes the time series with --csv).
 `crossval` runs the same scenarios on both plants and prints the comparison table
-(`corps.crossval`).
+(`corps.crossval`). `learn` is `corps learn`, its rollouts optionally on a Ray cluster
+(`corps.learn`; also installed as the `corps-learn` command).
 """
 
 import argparse
@@ -27,6 +29,11 @@ def make_plant(name, robot, timestep):
 
 
 def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    if argv[:1] == ["learn"]:
+        from . import learn
+
+        return learn.main(argv[1:], prog="python -m corps learn")
     p = argparse.ArgumentParser(prog="python -m corps", description=__doc__.split("\n")[0])
     sub = p.add_subparsers(dest="command", required=True)
     r = sub.add_parser("run", help="run a scenario file")
@@ -39,6 +46,7 @@ def main(argv=None):
     c = sub.add_parser("crossval", help="the same scenarios on corps' simulator and on MuJoCo")
     c.add_argument("--robot", default="talos")
     c.add_argument("--markdown", action="store_true")
+    sub.add_parser("learn", help="learn task weights (corps learn), optionally on Ray", add_help=False)
     args = p.parse_args(argv)
     try:
         if args.command == "run":

@@ -233,3 +233,14 @@ def run(scenario: Path, robot: Optional[str] = None, duration: Optional[float] =
         estimator: Optional[str] = None, noise: Optional[Path] = None,
         plant: Optional[Any] = None) -> RunResult:
     """Runs a scenario file as `corps run` does, in memory; `plant` replaces the simulator."""
+def learn(campaign: Path, iterations: Optional[int] = None, repeats: Optional[int] = None,
+          seed: Optional[int] = None, output: Optional[Path] = None,
+          map: Optional[Any] = None, description: Optional[str] = None) -> str:
+    """Runs a learning campaign as `corps learn` does (same files, same resume) and returns its
+    summary; `map(jobs) -> results`, if given, runs each batch of rollouts (`corps.learn`)."""
+def learning_rollout(campaign: Path, text: str,
+                     job: Tuple[Optional[int], Sequence[float], int]
+                     ) -> Tuple[float, float, float, bool, Optional[str], int, str]:
+    """One rollout of a campaign (`text`: the campaign file's text as the driver read it),
+    `job` = (test run or None, weights, seed), run here: what a cluster's worker runs. Returns
+    (fitness, joint-limit constraint, torque constraint, failed, error, steps, verdict)."""

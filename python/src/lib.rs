@@ -5,6 +5,7 @@
 mod algorithms;
 mod arrays;
 mod errors;
+mod learn;
 mod model;
 mod plant;
 mod run;
@@ -56,6 +57,8 @@ fn _corps(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(algorithms::difference, m)?)?;
     m.add_function(wrap_pyfunction!(algorithms::random_configuration, m)?)?;
     m.add_function(wrap_pyfunction!(run::run, m)?)?;
+    m.add_function(wrap_pyfunction!(learn::learn, m)?)?;
+    m.add_function(wrap_pyfunction!(learn::learning_rollout, m)?)?;
     m.add_function(wrap_pyfunction!(run::_panic_for_test, m)?)?;
     Ok(())
 }

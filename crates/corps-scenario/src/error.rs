@@ -19,6 +19,9 @@ pub enum ScenarioError {
     /// The run was interrupted before its controller took over (`t` = 0 s of control).
     #[error("interrupted at t = {t:.3} s")]
     Interrupted { t: f64 },
+    /// A campaign's rollout executor failed (not a rollout: those are penalised).
+    #[error("running rollouts: {0}")]
+    Rollouts(String),
     /// Writing the run's outputs failed.
     #[error("{0}")]
     Output(String),

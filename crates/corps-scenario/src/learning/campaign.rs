@@ -1,19 +1,21 @@
 //! A learning campaign's runs: each repeat is one constrained (1+1)-CMA-ES (`corps_learn`)
 //! on the log10 of the free weights, from the start weights on the first of up to
 //! [`START_DRAWS`] draws of the conditions they pass (the search needs a feasible start); an evaluation first checks the weights' bounds, then
-//! runs K rollouts in parallel (the bound and the rollouts' joint-limit and torque
+//! runs K rollouts through the campaign's executor ([`super::executor`]: this machine's
+//! threads by default) (the bound and the rollouts' joint-limit and torque
 //! constraints before any fitness is taken: an infeasible candidate's fitness is never
 //! computed) and averages their fitness. Every random draw comes from the campaign's seed, the
 //! repeat, the iteration and the condition, so results are the same on any number of threads,
 //! and a repeat interrupted part-way replays from its recorded evaluations.
 
+use super::executor::{Local, RolloutExecutor, RolloutJob, RolloutResult};
 use super::fitness::{fitness, rollout_constraints};
 use super::rollout::{rollout_scenario, rollout_seed, run_rollout};
 use super::LearnConfig;
 use crate::error::{bail, invalid, Result};
 use crate::scenario::Scenario;
+use crate::ScenarioError;
 use corps_learn::{OnePlusOne, Settings, StepOutcome};
-use rayon::prelude::*;
 use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -56,6 +58,10 @@ pub struct Campaign {
     pub config: LearnConfig,
     scenario: Scenario,
     base_dir: PathBuf,
+    /// The campaign file's directory (test runs' robot files are relative to it).
+    dir: PathBuf,
+    /// Where the rollouts run.
+    executor: Box<dyn RolloutExecutor>,
     /// The test rollout and its directory, if the campaign tests.
     test: Option<(Scenario, PathBuf)>,
     /// Training rollouts run so far (replayed ones not counted).
@@ -100,6 +106,8 @@ impl Campaign {
             config,
             scenario,
             base_dir,
+            dir: dir.to_path_buf(),
+            executor: Box::new(Local),
             test,
             rollouts: Default::default(),
         };
@@ -134,35 +142,102 @@ impl Campaign {
         self.rollouts.load(std::sync::atomic::Ordering::Relaxed)
     }
 
-    /// Runs every test of the campaign on `weights` (seeded by `seed`), in parallel.
-    pub fn test(&self, weights: &[f64], seed: u64, dir: &Path) -> Vec<TestOutcome> {
-        let (Some(spec), Some((scenario, base_dir))) = (&self.config.test, &self.test) else {
-            return Vec::new();
-        };
-        spec.runs
-            .par_iter()
-            .enumerate()
-            .map(|(k, run)| {
-                let mut config = self.config.clone();
-                config.randomization = run.randomization.clone();
-                let mut s = rollout_scenario(
-                    scenario,
-                    &config,
-                    weights,
-                    run.randomize,
-                    rollout_seed(seed, k, usize::MAX - 1, 0),
-                );
-                s.robot = crate::scenario::RobotSection::from_argument(&test_robot(run, dir));
-                let o = run_rollout(&s, base_dir);
-                let steps: usize = o.metrics.feet.iter().map(|f| f.landings).sum();
-                TestOutcome {
-                    run: run.name.clone(),
-                    success: !o.failed && steps >= spec.steps,
-                    steps,
-                    verdict: o.error.unwrap_or_else(|| o.metrics.verdict.to_string()),
+    /// Runs the rollouts through `executor` instead of this machine's threads.
+    pub fn with_executor(mut self, executor: Box<dyn RolloutExecutor>) -> Campaign {
+        self.executor = executor;
+        self
+    }
+
+    /// Where the rollouts run ("2 threads", …).
+    pub fn executor(&self) -> String {
+        self.executor.describe()
+    }
+
+    /// Runs one rollout here, as every executor must: the training scenario or a test run,
+    /// with the job's weights and seed. Never fails: a rollout that cannot run, panics or
+    /// falls is a failed result with its reason.
+    pub fn run_job(&self, job: &RolloutJob) -> RolloutResult {
+        let c = &self.config;
+        let outcome = match job.test_run {
+            None => {
+                let s = rollout_scenario(&self.scenario, c, &job.weights, c.randomize, job.seed);
+                run_rollout(&s, &self.base_dir)
+            }
+            Some(k) => match (&c.test, &self.test) {
+                (Some(spec), Some((scenario, base_dir))) if k < spec.runs.len() => {
+                    let run = &spec.runs[k];
+                    let mut config = c.clone();
+                    config.randomization = run.randomization.clone();
+                    let mut s =
+                        rollout_scenario(scenario, &config, &job.weights, run.randomize, job.seed);
+                    s.robot =
+                        crate::scenario::RobotSection::from_argument(&test_robot(run, &self.dir));
+                    run_rollout(&s, base_dir)
                 }
+                _ => super::rollout::RolloutOutcome {
+                    metrics: Default::default(),
+                    failed: true,
+                    error: Some(format!("the campaign has no test run {k}")),
+                },
+            },
+        };
+        RolloutResult {
+            fitness: fitness(c.fitness, &outcome, c.penalty),
+            constraints: rollout_constraints(c, &outcome),
+            failed: outcome.failed,
+            steps: outcome.metrics.feet.iter().map(|f| f.landings).sum(),
+            verdict: outcome.metrics.verdict.to_string(),
+            error: outcome.error,
+        }
+    }
+
+    /// Runs every test of the campaign on each candidate's weights, all through the
+    /// executor in one batch; candidate k's run j is seeded from the campaign's seed, k and j.
+    pub fn test(&self, candidates: &[Vec<f64>]) -> Result<Vec<Vec<TestOutcome>>> {
+        let Some(spec) = &self.config.test else {
+            return Ok(vec![Vec::new(); candidates.len()]);
+        };
+        let runs = spec.runs.len();
+        let jobs: Vec<RolloutJob> = (candidates.iter().enumerate())
+            .flat_map(|(k, weights)| {
+                let seed = rollout_seed(self.config.seed, k, usize::MAX - 2, 0);
+                (0..runs).map(move |j| RolloutJob {
+                    test_run: Some(j),
+                    weights: weights.clone(),
+                    seed: rollout_seed(seed, j, usize::MAX - 1, 0),
+                })
             })
-            .collect()
+            .collect();
+        let results = self.execute(&jobs)?;
+        Ok(results
+            .chunks(runs.max(1))
+            .map(|chunk| {
+                (chunk.iter().zip(&spec.runs))
+                    .map(|(r, run)| TestOutcome {
+                        run: run.name.clone(),
+                        success: !r.failed && r.steps >= spec.steps,
+                        steps: r.steps,
+                        verdict: r.error.clone().unwrap_or_else(|| r.verdict.clone()),
+                    })
+                    .collect()
+            })
+            .collect())
+    }
+
+    /// `jobs` through the executor, checked to come back one result each.
+    fn execute(&self, jobs: &[RolloutJob]) -> Result<Vec<RolloutResult>> {
+        let results = self
+            .executor
+            .run(self, jobs)
+            .map_err(ScenarioError::Rollouts)?;
+        if results.len() != jobs.len() {
+            return Err(ScenarioError::Rollouts(format!(
+                "{} results for {} rollouts",
+                results.len(),
+                jobs.len()
+            )));
+        }
+        Ok(results)
     }
 
     /// Every weight from the free ones' log10 values `theta`.
@@ -179,8 +254,8 @@ impl Campaign {
             .collect()
     }
 
-    /// The K rollouts of one evaluation, in parallel: mean ϕ, the constraints' worst values,
-    /// failed rollouts and the first error.
+    /// The K rollouts of one evaluation, through the executor: mean ϕ, the constraints'
+    /// worst values, failed rollouts and the first error.
     fn evaluate(
         &self,
         weights: &[f64],
@@ -188,40 +263,39 @@ impl Campaign {
         repeat: usize,
         iteration: usize,
         attempt: usize,
-    ) -> (f64, [f64; 2], usize, Option<String>) {
+    ) -> Result<(f64, [f64; 2], usize, Option<String>)> {
         let c = &self.config;
-        let outcomes: Vec<_> = (0..c.conditions)
-            .into_par_iter()
-            .map(|k| {
-                let s = rollout_seed(seed, repeat, iteration, k + attempt * c.conditions);
-                let scenario = rollout_scenario(&self.scenario, c, weights, c.randomize, s);
-                self.rollouts
-                    .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                (s, run_rollout(&scenario, &self.base_dir))
+        let jobs: Vec<RolloutJob> = (0..c.conditions)
+            .map(|k| RolloutJob {
+                test_run: None,
+                weights: weights.to_vec(),
+                seed: rollout_seed(seed, repeat, iteration, k + attempt * c.conditions),
             })
             .collect();
+        let results = self.execute(&jobs)?;
+        self.rollouts
+            .fetch_add(jobs.len(), std::sync::atomic::Ordering::Relaxed);
         let mut phi = 0.0;
         let mut g = [f64::NEG_INFINITY; 2];
         let mut failed = 0;
         let mut error = None;
-        for (s, o) in &outcomes {
-            phi += fitness(c.fitness, o, c.penalty);
-            for (gi, v) in g.iter_mut().zip(rollout_constraints(c, o)) {
+        for (job, r) in jobs.iter().zip(&results) {
+            phi += r.fitness;
+            for (gi, v) in g.iter_mut().zip(r.constraints) {
                 *gi = gi.max(v);
             }
-            if o.failed {
+            if r.failed {
                 failed += 1;
                 if error.is_none() {
                     error = Some(format!(
-                        "seed {s}: {}",
-                        o.error
-                            .clone()
-                            .unwrap_or_else(|| o.metrics.verdict.to_string())
+                        "seed {}: {}",
+                        job.seed,
+                        r.error.clone().unwrap_or_else(|| r.verdict.clone())
                     ));
                 }
             }
         }
-        (phi / outcomes.len() as f64, g, failed, error)
+        Ok((phi / results.len() as f64, g, failed, error))
     }
 
     /// Runs repeat `repeat` for `iterations`, calling `record` after each evaluation.
@@ -288,16 +362,23 @@ impl Campaign {
                 };
                 let mut result = self.evaluate(&weights, seed, repeat, it, 0);
                 for attempt in 1..attempts {
-                    if result.1.iter().all(|g| *g <= 0.0) {
+                    if !matches!(&result, Ok(r) if r.1.iter().any(|g| *g > 0.0)) {
                         break;
                     }
                     result = self.evaluate(&weights, seed, repeat, it, attempt);
                 }
-                let (phi, gc, failed, error) = result;
-                e.fitness = Some(phi);
-                e.failed_rollouts = failed;
-                e.error = error;
-                Some(gc)
+                match result {
+                    Ok((phi, gc, failed, error)) => {
+                        e.fitness = Some(phi);
+                        e.failed_rollouts = failed;
+                        e.error = error;
+                        Some(gc)
+                    }
+                    Err(err) => {
+                        failure.borrow_mut().get_or_insert(err);
+                        None
+                    }
+                }
             } else {
                 None
             };
@@ -320,8 +401,9 @@ impl Campaign {
             sigma0: c.sigma0,
             seed: rollout_seed(seed, repeat, usize::MAX, 0),
         }, g, f)
-        .map_err(|e| match current.borrow().as_ref() {
-            Some(ev) if !ev.feasible => invalid!(
+        .map_err(|e| match (failure.borrow_mut().take(), current.borrow().as_ref()) {
+            (Some(err), _) => err,
+            (None, Some(ev)) if !ev.feasible => invalid!(
                 "repeat {repeat}: the start weights are infeasible in every one of their first rollouts (the last: {}): {e}",
                 match ev.constraints {
                     Some([joints, torque]) => format!(
@@ -332,7 +414,7 @@ impl Campaign {
                     None => "outside the weights' bounds".into(),
                 }
             ),
-            _ => invalid!("{e}"),
+            (None, _) => invalid!("{e}"),
         })?;
         if let Some(err) = failure.borrow_mut().take() {
             return Err(err);

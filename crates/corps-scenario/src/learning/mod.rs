@@ -19,6 +19,7 @@
 //! ```
 
 pub mod campaign;
+pub mod executor;
 pub mod fitness;
 pub mod rollout;
 

@@ -11,6 +11,7 @@ mod plot;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
 use corps_scenario::learning::campaign::{Campaign, Evaluation};
+use corps_scenario::learning::executor::RolloutExecutor;
 use corps_scenario::learning::LearnConfig;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
@@ -40,6 +41,31 @@ pub struct LearnArgs {
 }
 
 pub fn run(args: LearnArgs) -> Result<()> {
+    match run_with(args, None) {
+        Ok(text) => crate::stdout::print(&text),
+        Err(e) => match e.downcast_ref::<CampaignInterrupted>() {
+            Some(stop) => {
+                eprintln!("corps: {stop}");
+                std::process::exit(crate::interrupt::EXIT_STATUS);
+            }
+            None => Err(e),
+        },
+    }
+}
+
+/// A campaign stopped by Ctrl-C ([`crate::interrupt::FLAG`]) between two evaluations.
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "interrupted; {evaluations} holds every evaluation so far: rerun the same command to resume"
+)]
+pub struct CampaignInterrupted {
+    /// The campaign's `evaluations.csv`.
+    pub evaluations: String,
+}
+
+/// Runs the campaign `args` name, its rollouts on `executor` (None: this machine's threads),
+/// and returns the summary `corps learn` prints.
+pub fn run_with(args: LearnArgs, executor: Option<Box<dyn RolloutExecutor>>) -> Result<String> {
     let text = corps_scenario::overrides::read_file(&args.campaign).map_err(|e| anyhow!("{e}"))?;
     let (mut config, dir) =
         LearnConfig::parse(&text, &args.campaign).map_err(|e| anyhow!("{e}"))?;
@@ -62,8 +88,11 @@ pub fn run(args: LearnArgs) -> Result<()> {
     let out = args
         .output
         .unwrap_or_else(|| Path::new("out/learn").join(&name));
-    let campaign =
+    let mut campaign =
         Campaign::new(config, &dir).map_err(|e| anyhow!("{}: {e}", args.campaign.display()))?;
+    if let Some(executor) = executor {
+        campaign = campaign.with_executor(executor);
+    }
     let c = &campaign.config;
     let names: Vec<String> = c.weights.iter().map(|w| w.name.clone()).collect();
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
@@ -162,11 +191,10 @@ pub fn run(args: LearnArgs) -> Result<()> {
         match r {
             Ok(r) => learned.push(r),
             Err(corps_scenario::ScenarioError::Interrupted { .. }) => {
-                eprintln!(
-                    "corps: interrupted; {} holds every evaluation so far: rerun the same command to resume",
-                    evaluations.display()
-                );
-                std::process::exit(crate::interrupt::EXIT_STATUS);
+                return Err(CampaignInterrupted {
+                    evaluations: evaluations.display().to_string(),
+                }
+                .into())
             }
             Err(e) => bail!("{}: {e}", args.campaign.display()),
         }
@@ -175,7 +203,7 @@ pub fn run(args: LearnArgs) -> Result<()> {
     csv::write_learned(&out.join("learned.csv"), &names, &learned)?;
     plot::fitness(&out.join("fitness.png"), &name, c.iterations, &rows)?;
     let mut text = format!(
-        "{name}: {} repeats × {} iterations, fitness {}, {} conditions per evaluation{}; {} evaluations replayed from an earlier run\n  training: {rollouts_run} rollouts in {training:.1} s ({:.1} rollouts/s on {} threads)\n",
+        "{name}: {} repeats × {} iterations, fitness {}, {} conditions per evaluation{}; {} evaluations replayed from an earlier run\n  training: {rollouts_run} rollouts in {training:.1} s ({:.1} rollouts/s on {})\n",
         c.repeats,
         c.iterations,
         c.fitness.name(),
@@ -183,7 +211,7 @@ pub fn run(args: LearnArgs) -> Result<()> {
         if c.randomize { ", randomized" } else { "" },
         resumed,
         rollouts_run as f64 / training.max(1e-9),
-        rayon::current_num_threads()
+        campaign.executor()
     );
     for (k, w) in names.iter().enumerate() {
         let v: Vec<f64> = learned.iter().map(|r| r.best_weights[k]).collect();
@@ -202,14 +230,14 @@ pub fn run(args: LearnArgs) -> Result<()> {
                 .iter()
                 .map(|r| (r.repeat.to_string(), r.best_weights.clone())),
         );
+        let weights: Vec<Vec<f64>> = candidates.iter().map(|(_, w)| w.clone()).collect();
+        let tested = campaign
+            .test(&weights)
+            .map_err(|e| anyhow!("{}: testing: {e}", args.campaign.display()))?;
         let outcomes: Vec<_> = candidates
-            .par_iter()
-            .enumerate()
-            .map(|(k, (who, w))| {
-                let seed =
-                    corps_scenario::learning::rollout::rollout_seed(c.seed, k, usize::MAX - 2, 0);
-                (who.clone(), campaign.test(w, seed, &dir))
-            })
+            .iter()
+            .map(|(who, _)| who.clone())
+            .zip(tested)
             .collect();
         let mut csv_text = String::from("weights,run,success,steps,verdict\n");
         let mut counts: BTreeMap<String, (usize, usize)> = BTreeMap::new();
@@ -261,5 +289,5 @@ pub fn run(args: LearnArgs) -> Result<()> {
         out.join("learned.csv").display(),
         out.join("fitness.png").display()
     );
-    crate::stdout::print(&text)
+    Ok(text)
 }
