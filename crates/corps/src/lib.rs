@@ -5,6 +5,7 @@
 pub mod actuator_cmd;
 pub mod interrupt;
 pub mod learn;
+pub mod mocap_cmd;
 pub mod output;
 pub mod progress;
 pub mod run;

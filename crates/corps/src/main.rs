@@ -4,7 +4,7 @@
 mod model_cmd;
 mod robot_cmd;
 
-use corps::{actuator_cmd, learn, run, sim_cmd, teleop};
+use corps::{actuator_cmd, learn, mocap_cmd, run, sim_cmd, teleop};
 
 use clap::{Parser, Subcommand};
 
@@ -43,6 +43,10 @@ enum Command {
     /// Learn a controller's task weights (seed 001 ch. 5) with the constrained (1+1)-CMA-ES
     /// over randomized rollouts (a campaign file, TOML).
     Learn(learn::LearnArgs),
+    /// Motion capture of an operator (seed 001 ch. 6): retarget a clip onto a robot, or play
+    /// one on the live stream.
+    #[command(subcommand)]
+    Mocap(mocap_cmd::MocapCommand),
 }
 
 fn main() {
@@ -57,6 +61,7 @@ fn main() {
         Some(Command::Teleop(args)) => teleop::run(args),
         Some(Command::Actuator(cmd)) => actuator_cmd::run(cmd),
         Some(Command::Learn(args)) => learn::run(args),
+        Some(Command::Mocap(cmd)) => mocap_cmd::run(cmd),
     };
     if let Err(e) = result {
         if let Some(stop) = e.downcast_ref::<corps::interrupt::Interrupted>() {
