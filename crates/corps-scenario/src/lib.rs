@@ -30,6 +30,7 @@ mod gait;
 pub mod identify;
 pub mod learning;
 pub mod metrics;
+pub mod mocap;
 pub mod motion;
 pub mod numbers;
 pub mod overrides;

@@ -412,6 +412,9 @@ pub struct Metrics {
     /// Walking with a person (co-navigation): how well the robot held its point.
     #[serde(flatten)]
     pub conav: Option<ConavMetrics>,
+    /// Teleoperation: the operator's steps and the robot's, the upper body's tracking.
+    #[serde(flatten)]
+    pub teleop: Option<TeleopMetrics>,
     /// Sums over every tick that fitness functions are made of (seed 001 Eq 5.17–5.18).
     pub sums: RunSums,
     /// The last [`HOLD_WINDOW`] of the run, the robot standing: the balance the feet's F/T
@@ -497,6 +500,31 @@ pub struct ConavMetrics {
     pub(crate) error_sum: f64,
     #[serde(skip)]
     pub(crate) ticks: usize,
+}
+
+/// A teleoperation run (seed 001 §6.2, S12): steps of the operator and of the robot, the
+/// measured upper body against the retargeted references (after mapping and clipping), and
+/// the ticks with a joint past its limits.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct TeleopMetrics {
+    pub operator_steps: usize,
+    pub robot_steps: usize,
+    pub upper_body_rms_deg: f64,
+    pub upper_body_max_deg: f64,
+    pub joint_limit_violations: usize,
+    /// Control ticks without a live operator pose (the references held).
+    pub feed_lost_ticks: usize,
+    pub upper_body: Vec<JointTracking>,
+}
+
+/// One retargeted joint's tracking.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct JointTracking {
+    pub joint: String,
+    pub rms_deg: f64,
+    pub max_deg: f64,
+    /// Operator frames whose angle went past the joint's limits (clipped).
+    pub clipped_frames: usize,
 }
 
 /// One figure a controller reports about its run.
@@ -610,6 +638,18 @@ impl fmt::Display for Metrics {
                 h.zmp_minus_com_m[1] * 1e3,
                 h.zmp_minus_controller_com_m[0] * 1e3,
                 h.zmp_minus_controller_com_m[1] * 1e3
+            )?;
+        }
+        if let Some(t) = &self.teleop {
+            writeln!(
+                f,
+                "  teleoperation: operator steps {}, robot steps {}; upper body vs retargeted references RMS {:.2}°, max {:.2}°; {} ticks with a joint past its limits; {} ticks without a live pose",
+                t.operator_steps,
+                t.robot_steps,
+                t.upper_body_rms_deg,
+                t.upper_body_max_deg,
+                t.joint_limit_violations,
+                t.feed_lost_ticks
             )?;
         }
         if let Some(c) = &self.conav {

@@ -67,6 +67,8 @@ pub struct Scenario {
     pub press: Option<crate::press::PressSection>,
     /// A person the robot walks with (`corps run`, a velocity walk): co-navigation.
     pub human: Option<crate::conav::HumanSection>,
+    /// `[mocap]`: the operator a teleoperation controller follows.
+    pub mocap: Option<crate::mocap::MocapSection>,
 }
 
 fn completed() -> Verdict {

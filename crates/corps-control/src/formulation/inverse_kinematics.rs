@@ -94,6 +94,10 @@ pub struct InverseKinematics {
     pub dt: f64,
     /// Enforce the joint position and velocity limits as hard bounds.
     pub enforce_limits: bool,
+    /// µ of the position bounds `µ(q_min − q)/dt ≤ v ≤ µ(q_max − q)/dt`: the share of the
+    /// distance to a limit one tick may close (1: reach it in one tick; seed 001 Eq 6.15's
+    /// OpenSoT bound scaling, below 1, approaches it geometrically).
+    pub limit_scaling: f64,
     /// The velocity-level tasks.
     pub tasks: TaskStack,
     hqp: Option<HierarchicalQp>,
@@ -139,6 +143,7 @@ impl InverseKinematics {
         Ok(Self {
             dt,
             enforce_limits: true,
+            limit_scaling: 1.0,
             tasks: TaskStack::new(TaskLevel::Velocity),
             hqp: None,
             slots: Vec::new(),
@@ -217,6 +222,23 @@ impl InverseKinematics {
             PostureVelocityTask::new(model, DVector::repeat(na, gains.posture), q_posture.clone())?;
         ik.add_task("posture", 4, 1.0, posture)?;
         Ok(ik)
+    }
+
+    /// Keeps the position bounds `margin` (rad or m) inside every joint's limits (a joint
+    /// servo's own error then stays within the limits); a joint whose range is narrower than
+    /// twice the margin keeps its middle.
+    pub fn set_limit_margin(&mut self, model: &Model, margin: f64) {
+        let margin = if margin.is_finite() {
+            margin.max(0.0)
+        } else {
+            0.0
+        };
+        for k in 0..self.q_lo.len() {
+            let (lo, hi) = (model.lower_position_limit[k], model.upper_position_limit[k]);
+            let m = margin.min(((hi - lo) * 0.5).max(0.0));
+            self.q_lo[k] = lo + m;
+            self.q_hi[k] = hi - m;
+        }
     }
 
     /// Adds a task (the hierarchy is rebuilt at the next `compute`).
@@ -362,8 +384,9 @@ impl InverseKinematics {
                 (f64::NEG_INFINITY, f64::INFINITY)
             };
             if let (true, Some(iq)) = (self.enforce_limits, self.q_index[k]) {
-                lo = lo.max((self.q_lo[iq] - q_from[iq]) / dt);
-                hi = hi.min((self.q_hi[iq] - q_from[iq]) / dt);
+                let mu = self.limit_scaling;
+                lo = lo.max(mu * (self.q_lo[iq] - q_from[iq]) / dt);
+                hi = hi.min(mu * (self.q_hi[iq] - q_from[iq]) / dt);
                 // Beyond a limit by more than one step at full speed: head back at full speed.
                 if lo > hi {
                     if hi < 0.0 {

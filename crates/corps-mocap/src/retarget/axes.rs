@@ -53,14 +53,27 @@ pub fn chain_angles(axes: &[Vector3<f64>], d: &Rotation3<f64>, out: &mut [f64]) 
 }
 
 /// Angles `q` (warm start in, solution out; one per axis, 1 to 3) of the chain with `axes`
-/// nearest to making `d` (least squares on the rotation vector of the error). Returns the
-/// remaining error angle (rad): 0 where the chain can make `d`.
-pub fn solve_chain(axes: &[Vector3<f64>], d: &Rotation3<f64>, q: &mut [f64]) -> f64 {
+/// nearest to making `d`: least squares on the rotation vector of the error plus
+/// `damping² |q − q_start|²` (0: exact where the chain can make `d`; above 0, a chain near a
+/// singularity — a z–x–z shoulder with its arm hanging — moves a little instead of swinging
+/// its parallel axes far apart). Returns the remaining error angle (rad).
+pub fn solve_chain(axes: &[Vector3<f64>], d: &Rotation3<f64>, q: &mut [f64], damping: f64) -> f64 {
     let n = axes.len().min(3);
+    let damping2 = if damping.is_finite() {
+        damping * damping
+    } else {
+        0.0
+    };
+    let mut start = [0.0; 3];
+    start[..n].copy_from_slice(&q[..n]);
+    let cost = |e: &Vector3<f64>, q: &[f64]| {
+        e.norm_squared() + damping2 * (0..n).map(|i| (q[i] - start[i]).powi(2)).sum::<f64>()
+    };
     let mut lambda = 1e-6;
     let mut error = chain_error(axes, d, q);
+    let mut current = cost(&error, q);
     for _ in 0..50 {
-        if error.norm() < 1e-12 {
+        if current < 1e-24 {
             break;
         }
         // Spatial Jacobian of the chain at q.
@@ -74,10 +87,14 @@ pub fn solve_chain(axes: &[Vector3<f64>], d: &Rotation3<f64>, q: &mut [f64]) -> 
         let mut step_taken = false;
         for _ in 0..10 {
             let mut h = jt * j;
+            let mut g = jt * error;
             for i in 0..3 {
-                h[(i, i)] += if i < n { lambda } else { 1.0 };
+                h[(i, i)] += if i < n { lambda + damping2 } else { 1.0 };
+                if i < n {
+                    g[i] -= damping2 * (q[i] - start[i]);
+                }
             }
-            let Some(delta) = h.lu().solve(&(jt * error)) else {
+            let Some(delta) = h.lu().solve(&g) else {
                 break;
             };
             let mut trial = [0.0; 3];
@@ -86,9 +103,11 @@ pub fn solve_chain(axes: &[Vector3<f64>], d: &Rotation3<f64>, q: &mut [f64]) -> 
                 trial[i] += delta[i];
             }
             let e = chain_error(axes, d, &trial[..n]);
-            if e.norm() < error.norm() {
+            let c = cost(&e, &trial[..n]);
+            if c < current {
                 q[..n].copy_from_slice(&trial[..n]);
                 error = e;
+                current = c;
                 lambda = (lambda * 0.3).max(1e-12);
                 step_taken = true;
                 break;
@@ -99,10 +118,8 @@ pub fn solve_chain(axes: &[Vector3<f64>], d: &Rotation3<f64>, q: &mut [f64]) -> 
             break;
         }
     }
-    for v in q.iter_mut().take(n) {
-        // The nearest equivalent angle in (−π, π].
-        *v = (*v + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
-    }
+    // No wrapping to (−π, π]: a stream of poses keeps continuous angles (the joint limits
+    // clip them later).
     error.norm()
 }
 
@@ -195,7 +212,7 @@ mod tests {
             let s = k as f64 / 40.0;
             let target = [-1.4 * s, 1.5 * s, 0.9 * s];
             let d = r(&axes[0], target[0]) * r(&axes[1], target[1]) * r(&axes[2], target[2]);
-            let residual = solve_chain(&axes, &d, &mut q);
+            let residual = solve_chain(&axes, &d, &mut q, 0.0);
             assert!(residual < 1e-9, "step {k}: {residual}");
             let mut back = Rotation3::identity();
             for i in 0..3 {
@@ -210,7 +227,7 @@ mod tests {
         let axes = [Vector3::y(), -Vector3::x(), Vector3::z()];
         let d = r(&axes[0], 0.3) * r(&axes[1], -0.5) * r(&axes[2], 1.1);
         let mut q = [0.0; 3];
-        solve_chain(&axes, &d, &mut q);
+        solve_chain(&axes, &d, &mut q, 0.0);
         let mut c = [0.0; 3];
         chain_angles(&axes, &d, &mut c);
         for i in 0..3 {

@@ -85,6 +85,12 @@ pub struct StepsSpec {
 #[serde(deny_unknown_fields)]
 pub struct MappingSpec {
     pub robot: String,
+    /// The robot's frame whose orientation the neck task holds (Table 6.1's R_neck).
+    pub neck_frame: Option<String>,
+    /// Damping of the chain solve per pose (rad⁻¹ weight on the change from the previous
+    /// pose, [`axes::solve_chain`]; 0: exact): for chains with a singularity in reach.
+    #[serde(default)]
+    pub chain_damping: f64,
     pub skeleton: SkeletonSpec,
     pub groups: Vec<GroupSpec>,
     pub steps: StepsSpec,
@@ -130,6 +136,9 @@ impl Mapping {
         let s = &self.spec;
         if !(s.skeleton.length_unit.is_finite() && s.skeleton.length_unit > 0.0) {
             return self.error("skeleton.length_unit: must be > 0");
+        }
+        if !(s.chain_damping.is_finite() && s.chain_damping >= 0.0) {
+            return self.error("chain_damping: must be ≥ 0");
         }
         if !matches!(s.skeleton.up.as_str(), "y" | "z") {
             return self.error(format!("skeleton.up: '{}' is not y or z", s.skeleton.up));
@@ -220,6 +229,7 @@ pub struct Retargeter {
     pub clipped: Vec<usize>,
     /// Each (group, human joint)'s angles at the last pose: the next pose's start.
     warm: Vec<[f64; 3]>,
+    damping: f64,
 }
 
 impl Retargeter {
@@ -347,6 +357,7 @@ impl Retargeter {
             waist_rest_robot,
             clipped: vec![0; n],
             warm: vec![[0.0; 3]; warm],
+            damping: mapping.spec.chain_damping,
         })
     }
 
@@ -377,7 +388,7 @@ impl Retargeter {
                 let b = Rotation3::from_matrix_unchecked(self.body);
                 let d_body = b.inverse() * d_world * b;
                 let warm = &mut self.warm[w];
-                axes::solve_chain(&g.axes, &d_body, &mut warm[..n]);
+                axes::solve_chain(&g.axes, &d_body, &mut warm[..n], self.damping);
                 for (d, s) in delta.iter_mut().zip(&warm[..n]) {
                     *d += s;
                 }

@@ -10,6 +10,7 @@ mod hand_press;
 mod ik;
 pub mod soft_tasks;
 mod stabilized;
+pub mod teleop_velocity;
 mod tsid;
 
 pub use hand_press::HAND_CHANNELS;
@@ -193,6 +194,7 @@ pub enum ControllerKind {
     TsidTorque,
     PassiveTorque,
     SoftTasks,
+    TeleopVelocity,
 }
 
 impl ControllerKind {
@@ -204,6 +206,7 @@ impl ControllerKind {
             ControllerKind::TsidTorque => "tsid_torque",
             ControllerKind::PassiveTorque => "passive_torque",
             ControllerKind::SoftTasks => "soft_tasks",
+            ControllerKind::TeleopVelocity => "teleop_velocity",
         }
     }
 
@@ -215,6 +218,9 @@ impl ControllerKind {
             ControllerKind::PassiveTorque => "passive TSID (torque, energy tank)",
             ControllerKind::SoftTasks => {
                 "soft tasks #2 on [τ; f] (seed 001), stepping state machine"
+            }
+            ControllerKind::TeleopVelocity => {
+                "teleoperation: two-layer velocity HQP (seed 001 §6.1.3), position mode"
             }
         }
     }
@@ -275,6 +281,10 @@ pub trait WholeBodyController: Send {
     }
     /// Appends the values of [`Self::channels`] for the last tick to `row`.
     fn push_channels(&self, _row: &mut Vec<f64>) {}
+    /// A teleoperation controller's figures of the run so far.
+    fn teleop_metrics(&self) -> Option<crate::metrics::TeleopMetrics> {
+        None
+    }
 }
 
 /// A scenario's controller as the loop's [`Controller`]: it reads the estimator's state and
@@ -345,6 +355,10 @@ impl ScenarioController {
     /// The controller's own figures of the run.
     pub fn report(&self) -> Vec<crate::metrics::ReportLine> {
         self.inner.report()
+    }
+
+    pub fn teleop_metrics(&self) -> Option<crate::metrics::TeleopMetrics> {
+        self.inner.teleop_metrics()
     }
 
     /// The controller's own log columns.

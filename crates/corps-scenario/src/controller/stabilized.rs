@@ -203,6 +203,10 @@ impl<C: WholeBodyController + ComTracking> WholeBodyController for Stabilized<C>
         self.inner.report()
     }
 
+    fn teleop_metrics(&self) -> Option<crate::metrics::TeleopMetrics> {
+        self.inner.teleop_metrics()
+    }
+
     fn tracked_targets(&self) -> Option<&Targets> {
         self.inner.tracked_targets()
     }

@@ -215,6 +215,12 @@ impl ScenarioRun {
             None => (sim.q().clone_owned(), sim.v().clone_owned()),
         };
         let mass = model.total_mass();
+        if scenario.mocap.is_some() && section.kind != ControllerKind::TeleopVelocity {
+            bail!(
+                "mocap: an operator is followed by the teleop_velocity controller, not '{}'",
+                section.kind.name()
+            );
+        }
         let (inner, stabilized) = match section.kind {
             ControllerKind::TsidTorque
             | ControllerKind::TsidPosition
@@ -262,6 +268,25 @@ impl ScenarioRun {
                 let ctrl = behind_stabilizer(inner, stabilizer.as_ref(), soles[0], mass, dt)
                     .context("controller.gains.stabilizer")?;
                 (ctrl, stabilizer.is_some())
+            }
+            ControllerKind::TeleopVelocity => {
+                let g: controller::teleop_velocity::TeleopVelocityConfig =
+                    gains::load(&source, &section.set).context("controller.gains")?;
+                let Some(mocap) = &scenario.mocap else {
+                    bail!("mocap: the teleop_velocity controller follows an operator: add a [mocap] section");
+                };
+                if press.is_some() {
+                    bail!("press: the teleoperation controller has no force task");
+                }
+                let operator = mocap.open(base_dir)?;
+                let inner = controller::teleop_velocity::TeleopVelocityController::new(
+                    &robot, g, dt, &q, operator,
+                )
+                .context("controller")?;
+                (
+                    Box::new(inner) as Box<dyn controller::WholeBodyController>,
+                    false,
+                )
             }
             ControllerKind::SoftTasks => {
                 let g: SoftTasksConfig =
@@ -396,7 +421,9 @@ impl ScenarioRun {
                     Some(fx) => {
                         if !matches!(
                             section.kind,
-                            ControllerKind::IkPosition | ControllerKind::TsidPosition
+                            ControllerKind::IkPosition
+                                | ControllerKind::TsidPosition
+                                | ControllerKind::TeleopVelocity
                         ) {
                             bail!("controller.flexibility: compensates position commands; kind '{}' sends torques", section.kind.name());
                         }
@@ -580,6 +607,7 @@ impl ScenarioRun {
         }
         m.against_thesis = m.thesis_comparison();
         m.controller_report = closed_loop.controller.report();
+        m.teleop = closed_loop.controller.teleop_metrics();
         if let Some((failures, first)) = closed_loop.references.live_failures() {
             m.controller_report.push(crate::metrics::ReportLine {
                 figure: format!(

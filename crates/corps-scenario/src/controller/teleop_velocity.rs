@@ -1,0 +1,475 @@
+//! Whole-body teleoperation at velocity level (seed 001 §6.1.3–6.1.4): the operator's
+//! retargeted joints, waist height and steps ([`corps_mocap`]) drive a two-layer hierarchical
+//! QP on ν — layer 1 both feet in SE(3); layer 2, weighted (Table 6.1), the CoM's ground
+//! projection at mid-feet (w_CoM), the waist's height and orientation (w_CoM), the neck's
+//! orientation (w_neck), the upper-body posture (w_sup) and the least ν (w_ν) — with the
+//! position limits scaled by µ (Eq 6.15) and the velocity limits (Eq 6.16) as bounds, the lower
+//! layer solved in the higher's null space by corps' hierarchical QP. ν integrates to the
+//! joint servos' position references (the IK's own state, as in position mode).
+//!
+//! This is the teleoperation double support (state 2a of Fig 6.6): the robot's feet stay;
+//! the operator's steps are detected and counted, not yet walked. A feed that stops holds its
+//! last references (the robot comes to rest in double support).
+
+use super::WholeBodyController;
+use crate::error::{invalid, Result};
+use crate::mocap::Operator;
+use crate::targets::Targets;
+use corps_control::formulation::InverseKinematics;
+use corps_control::tasks::velocity::{ComVelocityTask, FrameVelocityTask, PostureVelocityTask};
+use corps_control::tasks::{Reference, Se3Reference};
+use corps_control::{ControlError, FallbackReason, RobotState};
+use corps_mocap::retarget::{MappedJoint, Retargeter};
+use corps_mocap::skeleton::Skeleton;
+use corps_mocap::source::Feed;
+use corps_mocap::steps::StepDetector;
+use corps_model::spatial::Motion;
+use corps_model::Model;
+use corps_robot::Robot;
+use corps_sim::Command;
+use nalgebra::{DVector, Vector3, Vector6};
+use serde::Deserialize;
+use std::sync::Arc;
+
+/// The controller's gains file.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TeleopVelocityConfig {
+    /// µ of Eq 6.15: the share of the distance to a joint limit one tick may close.
+    pub limit_scaling: f64,
+    /// The position bounds kept this far inside the URDF limits (rad): the servos' own error.
+    pub limit_margin: f64,
+    pub weights: TeleopWeights,
+    pub gains: TeleopGains,
+}
+
+/// Table 6.1's weights of the second layer.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TeleopWeights {
+    /// w_CoM: the CoM's ground projection, the waist's height and orientation.
+    pub com: f64,
+    pub neck: f64,
+    /// w_sup: the upper-body posture.
+    pub posture: f64,
+    /// w_ν: the least velocity.
+    pub velocity: f64,
+}
+
+/// Task gains K of Eq 6.11 and 6.14 (1/s).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TeleopGains {
+    pub feet: f64,
+    pub com: f64,
+    pub waist: f64,
+    pub neck: f64,
+    pub posture: f64,
+}
+
+impl TeleopVelocityConfig {
+    fn check(&self) -> Result<()> {
+        if !(self.limit_scaling > 0.0 && self.limit_scaling <= 1.0) {
+            return Err(invalid!("limit_scaling: µ must be in (0, 1]"));
+        }
+        if !(self.limit_margin.is_finite() && self.limit_margin >= 0.0) {
+            return Err(invalid!("limit_margin: must be ≥ 0 rad"));
+        }
+        let w = &self.weights;
+        let g = &self.gains;
+        for (name, v) in [
+            ("weights.com", w.com),
+            ("weights.neck", w.neck),
+            ("weights.posture", w.posture),
+            ("weights.velocity", w.velocity),
+            ("gains.feet", g.feet),
+            ("gains.com", g.com),
+            ("gains.waist", g.waist),
+            ("gains.neck", g.neck),
+            ("gains.posture", g.posture),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(invalid!("{name}: must be a finite number ≥ 0"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Tracking of the retargeted upper body and the operator's steps, for the metrics.
+#[derive(Clone, Debug, Default)]
+struct Stats {
+    square_sum: Vec<f64>,
+    max: Vec<f64>,
+    samples: usize,
+    limit_violations: usize,
+    lost_ticks: usize,
+}
+
+pub struct TeleopVelocityController {
+    model: Arc<Model>,
+    ik: InverseKinematics,
+    state: RobotState,
+    q_des: DVector<f64>,
+    v_des: DVector<f64>,
+    command: Command,
+    operator: Operator,
+    retargeter: Retargeter,
+    steps: StepDetector,
+    feet_joints: [usize; 2],
+    joints: Vec<MappedJoint>,
+    operator_angles: Vec<f64>,
+    robot_angles: Vec<f64>,
+    /// Eq 6.14's ṡ_d: the retargeted joints' velocity between the last two operator poses
+    /// (na, zero on the joints not retargeted), and the time of the last pose.
+    v_ref: DVector<f64>,
+    previous: Vec<f64>,
+    pose_time: Option<f64>,
+    /// Each mapped joint's index among the actuated joints.
+    actuated: Vec<usize>,
+    /// The posture reference (nq): the rest posture with the retargeted joints.
+    q_ref: DVector<f64>,
+    /// Sole height (world) the waist height is measured from.
+    sole_z: f64,
+    waist_z: f64,
+    /// The neck frame and a scratch model state for its reference orientation.
+    neck: Option<(usize, corps_model::Data)>,
+    base_pose: DVector<f64>,
+    stats: Stats,
+    fed: bool,
+}
+
+const FEET: [&str; 2] = ["foot_left", "foot_right"];
+
+impl TeleopVelocityController {
+    /// The stack for `robot` standing at `q`, following `operator`.
+    pub fn new(
+        robot: &Robot,
+        config: TeleopVelocityConfig,
+        dt: f64,
+        q: &DVector<f64>,
+        operator: Operator,
+    ) -> Result<Self> {
+        config.check()?;
+        let model = robot.model.clone();
+        let mapped = operator
+            .mapping
+            .robot()
+            .map_err(|e| invalid!("mocap.mapping: {e}"))?;
+        if mapped.model.nq != model.nq
+            || (mapped.model.joints.iter().zip(&model.joints)).any(|(a, b)| a.name != b.name)
+        {
+            return Err(invalid!(
+                "mocap.mapping: maps onto robot '{}', the scenario runs '{}' (another model)",
+                mapped.name,
+                robot.name
+            ));
+        }
+        let spec = &operator.mapping.spec;
+        let skeleton = Skeleton::new(&operator.clip, operator.mapping.units());
+        let rest_frame = spec.skeleton.rest_frame;
+        if rest_frame >= operator.clip.frames() {
+            return Err(invalid!(
+                "mocap.mapping: skeleton.rest_frame {rest_frame}: the clip has {} frames",
+                operator.clip.frames()
+            ));
+        }
+        let rest = skeleton.pose(operator.clip.frame(rest_frame), 0.0);
+        let retargeter = Retargeter::new(&operator.mapping, robot, &skeleton, &rest)
+            .map_err(|e| invalid!("mocap: {e}"))?;
+        let feet_joints = [
+            skeleton.joint(&spec.skeleton.feet[0]).unwrap_or(0),
+            skeleton.joint(&spec.skeleton.feet[1]).unwrap_or(0),
+        ];
+        let foot = |k: usize| retargeter.in_body(&rest.world[feet_joints[k]].translation.vector);
+        let steps = StepDetector::new(&spec.steps, [foot(0), foot(1)]);
+
+        let mut state = RobotState::new(&model);
+        let v0 = DVector::zeros(model.nv);
+        state.update(&model, q.as_slice(), v0.as_slice())?;
+        let mut ik = InverseKinematics::new(&model, dt)?;
+        ik.limit_scaling = config.limit_scaling;
+        ik.set_limit_margin(&model, config.limit_margin);
+        let reference = |frame: usize| -> Result<Se3Reference> {
+            Ok(Se3Reference {
+                placement: state.frame_placement(&model, frame)?,
+                velocity: Motion::zero(),
+                acceleration: Motion::zero(),
+            })
+        };
+        let [left, right] = super::two_feet(robot)?;
+        for (name, f) in FEET.iter().zip([left, right]) {
+            let task = FrameVelocityTask::new(
+                &model,
+                f.frame,
+                Vector6::repeat(config.gains.feet),
+                [true; 6],
+                reference(f.frame)?,
+            )?;
+            ik.add_task(name, 0, 1.0, task)?;
+        }
+        let w = &config.weights;
+        let g = &config.gains;
+        let feet0 = [reference(left.frame)?, reference(right.frame)?];
+        let mid = (feet0[0].placement.translation + feet0[1].placement.translation) / 2.0;
+        let com = DVector::from_column_slice(&[mid.x, mid.y, state.data.com.z]);
+        let com_xy = ComVelocityTask::new(
+            model.nv,
+            Vector3::repeat(g.com),
+            [true, true, false],
+            Reference::constant(com),
+        )?;
+        ik.add_task("com_xy", 1, w.com, com_xy)?;
+        let waist = FrameVelocityTask::new(
+            &model,
+            robot.base,
+            Vector6::repeat(g.waist),
+            [false, false, true, true, true, true],
+            reference(robot.base)?,
+        )?;
+        ik.add_task("waist", 1, w.com, waist)?;
+        let neck = match &spec.neck_frame {
+            Some(name) => {
+                let id = model.frame_id(name).map_err(|_| {
+                    invalid!(
+                        "mocap.mapping: neck_frame: {} has no frame '{name}'",
+                        robot.name
+                    )
+                })?;
+                let task = FrameVelocityTask::new(
+                    &model,
+                    id,
+                    Vector6::repeat(g.neck),
+                    [false, false, false, true, true, true],
+                    reference(id)?,
+                )?;
+                ik.add_task("neck", 1, w.neck, task)?;
+                Some((id, corps_model::Data::new(&model)))
+            }
+            None => None,
+        };
+        let na = model.na();
+        let mut kp = DVector::zeros(na);
+        let first = model.first_actuated();
+        let mut actuated = Vec::new();
+        for j in &retargeter.joints {
+            let iv = model.joints[model.joint_id(&j.name)?].idx_v;
+            kp[iv - first] = g.posture;
+            actuated.push(iv - first);
+        }
+        let posture = PostureVelocityTask::new(&model, kp, robot.posture.clone())?;
+        ik.add_task("posture", 1, w.posture, posture)?;
+        let least = PostureVelocityTask::new(&model, DVector::zeros(na), robot.posture.clone())?;
+        ik.add_task("least_velocity", 1, w.velocity, least)?;
+
+        let sole_z = feet0[0]
+            .placement
+            .translation
+            .z
+            .min(feet0[1].placement.translation.z);
+        let waist_z = state.frame_placement(&model, robot.base)?.translation.z;
+        let joints = retargeter.joints.clone();
+        let n = joints.len();
+        let mut q_ref = robot.posture.clone();
+        // The base of the posture reference is where the robot stands (the neck's reference).
+        q_ref
+            .rows_mut(0, 7.min(model.nq))
+            .copy_from(&q.rows(0, 7.min(model.nq)));
+        Ok(Self {
+            ik,
+            state,
+            q_des: q.clone(),
+            v_des: v0,
+            command: Command::Position {
+                q_ref: q.clone(),
+                v_ref: DVector::zeros(na),
+            },
+            operator,
+            retargeter,
+            steps,
+            feet_joints,
+            joints,
+            operator_angles: vec![0.0; n],
+            robot_angles: vec![0.0; n],
+            v_ref: DVector::zeros(na),
+            previous: vec![0.0; n],
+            pose_time: None,
+            actuated,
+            base_pose: q.rows(0, 7.min(model.nq)).into_owned(),
+            q_ref,
+            sole_z,
+            waist_z,
+            neck,
+            stats: Stats {
+                square_sum: vec![0.0; n],
+                max: vec![0.0; n],
+                ..Default::default()
+            },
+            fed: false,
+            model,
+        })
+    }
+
+    /// Reads the operator and sets the tasks' references.
+    fn follow(&mut self, t: f64) -> Result<(), ControlError> {
+        let (pose, feed) = self.operator.source.poll(t);
+        match feed {
+            Feed::Live | Feed::Holding { .. } => {
+                let new = self.pose_time != Some(pose.time);
+                if new {
+                    self.previous.copy_from_slice(&self.robot_angles);
+                }
+                self.retargeter.joints_into(
+                    pose,
+                    &mut self.operator_angles,
+                    &mut self.robot_angles,
+                );
+                match self.pose_time {
+                    Some(before) if new && pose.time > before && feed == Feed::Live => {
+                        let dt = pose.time - before;
+                        for (i, &a) in self.actuated.iter().enumerate() {
+                            self.v_ref[a] = (self.robot_angles[i] - self.previous[i]) / dt;
+                        }
+                    }
+                    Some(_) if new || feed != Feed::Live => self.v_ref.fill(0.0),
+                    _ => {}
+                }
+                self.pose_time = Some(pose.time);
+                for (j, v) in self.joints.iter().zip(&self.robot_angles) {
+                    self.q_ref[j.q_index] = *v;
+                }
+                self.waist_z = self.sole_z + self.retargeter.waist_height(pose);
+                let feet = self
+                    .feet_joints
+                    .map(|k| self.retargeter.in_body(&pose.world[k].translation.vector));
+                for _ in 0..2 {
+                    if self.steps.update(pose.time, feet).is_none() {
+                        break;
+                    }
+                }
+                self.fed = true;
+            }
+            Feed::Lost | Feed::Waiting => {
+                self.stats.lost_ticks += 1;
+                self.v_ref.fill(0.0);
+            }
+        }
+        let model = self.model.clone();
+        let posture = self.ik.task_mut::<PostureVelocityTask>("posture")?;
+        posture.q_ref.copy_from(&self.q_ref);
+        posture.v_ref.copy_from(&self.v_ref);
+        self.ik
+            .task_mut::<FrameVelocityTask>("waist")?
+            .reference
+            .placement
+            .translation
+            .z = self.waist_z;
+        if let Some((frame, data)) = &mut self.neck {
+            self.q_ref
+                .rows_mut(0, self.base_pose.len())
+                .copy_from(&self.base_pose);
+            corps_model::forward_kinematics_placements(&model, data, self.q_ref.as_slice())?;
+            corps_model::update_frame_placements(&model, data);
+            let rotation = data.o_m_f[*frame].rotation;
+            self.ik
+                .task_mut::<FrameVelocityTask>("neck")?
+                .reference
+                .placement
+                .rotation = rotation;
+        }
+        Ok(())
+    }
+
+    /// The measured upper body against the retargeted references, and the joint limits.
+    fn record(&mut self, q: &[f64]) {
+        if self.fed {
+            for (i, j) in self.joints.iter().enumerate() {
+                let e = (q[j.q_index] - self.robot_angles[i]).abs().to_degrees();
+                self.stats.square_sum[i] += e * e;
+                self.stats.max[i] = self.stats.max[i].max(e);
+            }
+            self.stats.samples += 1;
+        }
+        let m = &self.model;
+        let outside = (m.joints.iter()).any(|j| {
+            matches!(j.kind, corps_model::JointKind::Revolute { .. })
+                && (q[j.idx_q] < m.lower_position_limit[j.idx_q] - LIMIT_TOLERANCE
+                    || q[j.idx_q] > m.upper_position_limit[j.idx_q] + LIMIT_TOLERANCE)
+        });
+        if outside {
+            self.stats.limit_violations += 1;
+        }
+    }
+}
+
+/// A measured joint counts as past its limit beyond this (rad): the servo's own error.
+pub const LIMIT_TOLERANCE: f64 = 1e-3;
+
+impl WholeBodyController for TeleopVelocityController {
+    fn tick(
+        &mut self,
+        t: f64,
+        q: &[f64],
+        _v: &[f64],
+        _targets: &Targets,
+        _measured: &super::Measured,
+    ) -> Option<FallbackReason> {
+        let model = self.model.clone();
+        self.record(q);
+        let solved = self
+            .follow(t)
+            .and_then(|_| {
+                self.state
+                    .update(&model, self.q_des.as_slice(), self.v_des.as_slice())
+                    .map_err(ControlError::from)
+            })
+            .and_then(|_| self.ik.compute(&model, &self.state, self.q_des.as_slice()));
+        let reason = match solved {
+            Ok(out) => {
+                self.q_des.copy_from(&out.q_des);
+                self.v_des.copy_from(&out.v);
+                None
+            }
+            Err(e) => {
+                self.v_des.fill(0.0);
+                Some(FallbackReason::Controller(e))
+            }
+        };
+        if let Command::Position { q_ref, v_ref } = &mut self.command {
+            q_ref.copy_from(&self.q_des);
+            v_ref.copy_from(&self.v_des.rows(model.first_actuated(), model.na()));
+        }
+        reason
+    }
+
+    fn command(&self) -> &Command {
+        &self.command
+    }
+
+    fn controller_com(&self) -> Vector3<f64> {
+        self.state.data.com
+    }
+
+    fn teleop_metrics(&self) -> Option<crate::metrics::TeleopMetrics> {
+        let s = &self.stats;
+        let n = s.samples.max(1) as f64;
+        let per_joint: Vec<crate::metrics::JointTracking> = (self.joints.iter().enumerate())
+            .map(|(i, j)| crate::metrics::JointTracking {
+                joint: j.name.clone(),
+                rms_deg: (s.square_sum[i] / n).sqrt(),
+                max_deg: s.max[i],
+                clipped_frames: self.retargeter.clipped[i],
+            })
+            .collect();
+        let all: f64 = s.square_sum.iter().sum::<f64>() / (n * self.joints.len().max(1) as f64);
+        Some(crate::metrics::TeleopMetrics {
+            operator_steps: self.steps.count,
+            robot_steps: 0,
+            upper_body_rms_deg: all.sqrt(),
+            upper_body_max_deg: s.max.iter().copied().fold(0.0, f64::max),
+            joint_limit_violations: s.limit_violations,
+            feed_lost_ticks: s.lost_ticks,
+            upper_body: per_joint,
+        })
+    }
+}
