@@ -314,6 +314,13 @@ impl TeleopVelocityController {
     fn follow(&mut self, t: f64) -> Result<(), ControlError> {
         let (pose, feed) = self.operator.source.poll(t);
         match feed {
+            // The pose of the last tick (the operator's rate is below the control's): the
+            // references stand; a held pose stops the feed-forward.
+            Feed::Live | Feed::Holding { .. } if self.pose_time == Some(pose.time) => {
+                if feed != Feed::Live {
+                    self.v_ref.fill(0.0);
+                }
+            }
             Feed::Live | Feed::Holding { .. } => {
                 let new = self.pose_time != Some(pose.time);
                 if new {
