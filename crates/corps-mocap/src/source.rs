@@ -20,6 +20,19 @@ pub enum Feed {
     Waiting,
 }
 
+impl Feed {
+    /// The feed of a pose `since` s old: live within `hold`, held within `timeout`, then lost.
+    pub fn aged(since: f64, hold: f64, timeout: f64) -> Feed {
+        if since <= hold {
+            Feed::Live
+        } else if since <= timeout {
+            Feed::Holding { since }
+        } else {
+            Feed::Lost
+        }
+    }
+}
+
 /// A source of the operator's poses.
 pub trait MocapSource: Send {
     /// The operator's skeleton.
@@ -84,13 +97,7 @@ impl MocapSource for ClipSource {
             self.frame = Some(k);
         }
         let since = t - self.duration();
-        let feed = if since <= self.bvh.frame_time {
-            Feed::Live
-        } else if since <= self.timeout {
-            Feed::Holding { since }
-        } else {
-            Feed::Lost
-        };
+        let feed = Feed::aged(since, self.bvh.frame_time, self.timeout);
         (&self.pose, feed)
     }
 }

@@ -99,16 +99,7 @@ impl MocapSource for UdpSource {
         }
         let feed = match self.last {
             None => Feed::Waiting,
-            Some((_, at)) => {
-                let since = t - at;
-                if since <= self.hold {
-                    Feed::Live
-                } else if since <= self.timeout {
-                    Feed::Holding { since }
-                } else {
-                    Feed::Lost
-                }
-            }
+            Some((_, at)) => Feed::aged(t - at, self.hold, self.timeout),
         };
         (&self.pose, feed)
     }

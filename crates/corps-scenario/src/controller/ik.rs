@@ -103,31 +103,16 @@ impl WholeBodyController for IkController {
     ) -> Option<FallbackReason> {
         let model = self.model.clone();
         self.ik.update_transitions(t);
-        let solved = self
-            .set_references(targets)
-            .and_then(|_| {
-                self.state
-                    .update(&model, self.q_des.as_slice(), self.v_des.as_slice())
-                    .map_err(ControlError::from)
-            })
-            .and_then(|_| self.ik.compute(&model, &self.state, self.q_des.as_slice()));
-        let reason = match solved {
-            Ok(out) => {
-                self.q_des.copy_from(&out.q_des);
-                self.v_des.copy_from(&out.v);
-                None
-            }
-            Err(e) => {
-                // Hold the last target at rest.
-                self.v_des.fill(0.0);
-                Some(FallbackReason::Controller(e))
-            }
-        };
-        if let Command::Position { q_ref, v_ref } = &mut self.command {
-            q_ref.copy_from(&self.q_des);
-            v_ref.copy_from(&self.v_des.rows(model.first_actuated(), model.na()));
-        }
-        reason
+        let references = self.set_references(targets);
+        position_tick(
+            &model,
+            &mut self.ik,
+            &mut self.state,
+            &mut self.q_des,
+            &mut self.v_des,
+            &mut self.command,
+            references,
+        )
     }
 
     fn command(&self) -> &Command {
@@ -137,4 +122,41 @@ impl WholeBodyController for IkController {
     fn controller_com(&self) -> Vector3<f64> {
         self.state.data.com
     }
+}
+
+/// One tick of a velocity IK in position mode, once its references are set (`references`, or
+/// why they could not be): the IK reads its own integrated state (q_des, v_des), solves, and
+/// integrates; q_des and v_des go to the joint servos. A failure holds the last target at rest.
+pub(super) fn position_tick(
+    model: &Model,
+    ik: &mut InverseKinematics,
+    state: &mut RobotState,
+    q_des: &mut DVector<f64>,
+    v_des: &mut DVector<f64>,
+    command: &mut Command,
+    references: Result<(), ControlError>,
+) -> Option<FallbackReason> {
+    let solved = references
+        .and_then(|_| {
+            state
+                .update(model, q_des.as_slice(), v_des.as_slice())
+                .map_err(ControlError::from)
+        })
+        .and_then(|_| ik.compute(model, state, q_des.as_slice()));
+    let reason = match solved {
+        Ok(out) => {
+            q_des.copy_from(&out.q_des);
+            v_des.copy_from(&out.v);
+            None
+        }
+        Err(e) => {
+            v_des.fill(0.0);
+            Some(FallbackReason::Controller(e))
+        }
+    };
+    if let Command::Position { q_ref, v_ref } = command {
+        q_ref.copy_from(q_des);
+        v_ref.copy_from(&v_des.rows(model.first_actuated(), model.na()));
+    }
+    reason
 }

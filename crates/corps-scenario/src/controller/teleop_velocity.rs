@@ -423,30 +423,16 @@ impl WholeBodyController for TeleopVelocityController {
     ) -> Option<FallbackReason> {
         let model = self.model.clone();
         self.record(q);
-        let solved = self
-            .follow(t)
-            .and_then(|_| {
-                self.state
-                    .update(&model, self.q_des.as_slice(), self.v_des.as_slice())
-                    .map_err(ControlError::from)
-            })
-            .and_then(|_| self.ik.compute(&model, &self.state, self.q_des.as_slice()));
-        let reason = match solved {
-            Ok(out) => {
-                self.q_des.copy_from(&out.q_des);
-                self.v_des.copy_from(&out.v);
-                None
-            }
-            Err(e) => {
-                self.v_des.fill(0.0);
-                Some(FallbackReason::Controller(e))
-            }
-        };
-        if let Command::Position { q_ref, v_ref } = &mut self.command {
-            q_ref.copy_from(&self.q_des);
-            v_ref.copy_from(&self.v_des.rows(model.first_actuated(), model.na()));
-        }
-        reason
+        let references = self.follow(t);
+        super::ik::position_tick(
+            &model,
+            &mut self.ik,
+            &mut self.state,
+            &mut self.q_des,
+            &mut self.v_des,
+            &mut self.command,
+            references,
+        )
     }
 
     fn command(&self) -> &Command {
