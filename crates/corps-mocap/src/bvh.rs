@@ -84,6 +84,7 @@ impl Bvh {
 
     /// Parses a BVH file's text (`name` is how errors name it).
     pub fn parse(text: &str, name: &str) -> Result<Bvh> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut reader = Reader::new(text, name);
         let (joints, channels) = reader.hierarchy()?;
         let (frame_time, values) = reader.motion(channels)?;
@@ -97,6 +98,7 @@ impl Bvh {
 
     /// Parses the HIERARCHY alone (a live stream's skeleton: its frames come over the wire).
     pub fn parse_hierarchy(text: &str, name: &str) -> Result<Bvh> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut reader = Reader::new(text, name);
         let (joints, channels) = reader.hierarchy()?;
         Ok(Bvh {
@@ -131,7 +133,12 @@ struct Reader<'a> {
     line: usize,
     tokens: Vec<&'a str>,
     token: usize,
+    /// Joints open (nesting depth).
+    depth: usize,
 }
+
+/// Deepest nesting of joints read (a human skeleton has about ten levels).
+const MAX_DEPTH: usize = 256;
 
 impl<'a> Reader<'a> {
     fn new(text: &'a str, name: &'a str) -> Reader<'a> {
@@ -150,6 +157,7 @@ impl<'a> Reader<'a> {
             line: 0,
             tokens,
             token: 0,
+            depth: 0,
         }
     }
 
@@ -166,6 +174,13 @@ impl<'a> Reader<'a> {
             line: self.line_number(),
             message: message.into(),
         })
+    }
+
+    /// The next token of the current line, if any.
+    fn next_on_line(&mut self) -> Option<&'a str> {
+        let t = self.tokens.get(self.token).copied()?;
+        self.token += 1;
+        Some(t)
     }
 
     /// The next token, or None at the end of the text.
@@ -220,6 +235,21 @@ impl<'a> Reader<'a> {
         joints: &mut Vec<BvhJoint>,
         channels: &mut usize,
     ) -> Result<()> {
+        if self.depth >= MAX_DEPTH {
+            return self.error(format!("joints nested deeper than {MAX_DEPTH}"));
+        }
+        self.depth += 1;
+        let r = self.joint_body(parent, joints, channels);
+        self.depth -= 1;
+        r
+    }
+
+    fn joint_body(
+        &mut self,
+        parent: Option<usize>,
+        joints: &mut Vec<BvhJoint>,
+        channels: &mut usize,
+    ) -> Result<()> {
         let name = self.expect_token("a joint name")?.to_string();
         if joints.iter().any(|j: &BvhJoint| j.name == name) {
             return self.error(format!("joint '{name}' appears twice"));
@@ -269,6 +299,9 @@ impl<'a> Reader<'a> {
                                 ))
                             }
                         }
+                    }
+                    if !joints[index].channels.is_empty() {
+                        return self.error(format!("joint '{name}': CHANNELS given twice"));
                     }
                     joints[index].first_channel = *channels;
                     *channels += n;
@@ -325,7 +358,12 @@ impl<'a> Reader<'a> {
         if frame_time <= 0.0 {
             return self.error(format!("Frame Time {frame_time} s: must be > 0"));
         }
-        let mut values = Vec::with_capacity(frames * channels);
+        if let Some(extra) = self.next_on_line() {
+            return self.error(format!("'{extra}' after the frame time (one frame a line)"));
+        }
+        // A count the file cannot hold reserves no more than its lines.
+        let room = frames.min(self.lines.len().saturating_sub(self.line + 1));
+        let mut values = Vec::with_capacity(channels.saturating_mul(room));
         for k in 0..frames {
             self.line += 1;
             let Some((_, line)) = self.lines.get(self.line) else {

@@ -47,6 +47,9 @@ pub struct StepDetector {
     /// then the lowest either has been (an operator at rest may have a foot in the air).
     ground: f64,
     state: [FootState; 2],
+    /// Each foot's highest point since it last touched the ground (a foot may rise before
+    /// it travels far enough to be stepping).
+    peak: [f64; 2],
     /// Steps counted so far.
     pub count: usize,
     /// Steps whose length or height was clipped.
@@ -60,6 +63,7 @@ impl StepDetector {
             spec: spec.clone(),
             ground: feet[0].z.min(feet[1].z),
             state: feet.map(|at| FootState::Standing { at }),
+            peak: [0.0; 2],
             count: 0,
             clipped: 0,
         }
@@ -82,11 +86,16 @@ impl StepDetector {
             match self.state[k] {
                 FootState::Standing { at } => {
                     let travel = (p - at).xy().norm();
+                    self.peak[k] = if height > s.land {
+                        self.peak[k].max(height)
+                    } else {
+                        0.0
+                    };
                     if height > s.lift && travel > s.travel {
                         self.state[k] = FootState::Stepping {
                             from: at,
                             start: t,
-                            top: height,
+                            top: self.peak[k].max(height),
                         };
                     } else if height <= s.land {
                         // Still on the ground: where it stands follows it (a shuffle).

@@ -54,6 +54,12 @@ fn a_small_file_reads_and_poses_in_corps_world() {
 }
 
 #[test]
+fn a_byte_order_mark_is_read_past() {
+    let bvh = Bvh::parse(&format!("\u{feff}{GOOD}"), "clip.bvh").unwrap();
+    assert_eq!(bvh.frames(), 2);
+}
+
+#[test]
 fn every_fault_is_one_line_naming_the_file_and_the_line() {
     // Cut while writing the last frame.
     let cut = &GOOD[..GOOD.len() - 8];
@@ -93,6 +99,21 @@ fn every_fault_is_one_line_naming_the_file_and_the_line() {
         (GOOD[..200].to_string(), "the file ends where"),
         (GOOD.replace("Frames: 2", "Frames: 0"), "no frame"),
         (String::new(), "the file ends where HIERARCHY was expected"),
+        (
+            GOOD.replace("Frames: 2", "Frames: 1000000000000"),
+            "line 20: the file ends after 2 of the 1000000000000 frames",
+        ),
+        (
+            GOOD.replace("Frame Time: 0.04", "Frame Time: 0.04 0 90"),
+            "line 18: '0' after the frame time",
+        ),
+        (
+            GOOD.replace(
+                "CHANNELS 3 Zrotation Xrotation Yrotation",
+                "CHANNELS 3 Zrotation Xrotation Yrotation\n    CHANNELS 1 Xposition",
+            ),
+            "joint 'Arm': CHANNELS given twice",
+        ),
     ];
     for (text, words) in cases {
         let e = error(&text);

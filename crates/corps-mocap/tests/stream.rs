@@ -89,3 +89,40 @@ fn a_source_with_nothing_received_waits() {
     assert_eq!(source.poll(0.0).1, Feed::Waiting);
     assert_eq!(source.poll(5.0).1, Feed::Waiting);
 }
+
+#[test]
+fn a_sender_that_restarts_is_taken_again_once_the_feed_is_lost() {
+    let bvh = clip();
+    let mut source = UdpSource::bind("127.0.0.1:0", &bvh, Units::default()).unwrap();
+    let address = source.address().unwrap().to_string();
+    let sender = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+    let frame = |time: f64, k: usize| {
+        let mut line = format!("{time:e}");
+        for v in bvh.frame(k) {
+            line += &format!(" {v:e}");
+        }
+        line
+    };
+    let wait_for = |source: &mut UdpSource, t: f64, n: usize| {
+        let start = Instant::now();
+        while source.received < n && start.elapsed() < Duration::from_secs(5) {
+            source.poll(t);
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    };
+    // A frame far in the future, then the sender restarts from 0.
+    sender.send_to(frame(1e6, 3).as_bytes(), &address).unwrap();
+    wait_for(&mut source, 0.0, 1);
+    sender.send_to(frame(0.0, 5).as_bytes(), &address).unwrap();
+    std::thread::sleep(Duration::from_millis(50));
+    // Not newer and the feed still live: skipped.
+    assert_eq!(source.poll(0.1).1, Feed::Live);
+    assert_eq!((source.received, source.skipped), (1, 1));
+    // Lost: the restarted sender's next frame is taken.
+    assert_eq!(source.poll(1.0).1, Feed::Lost);
+    sender.send_to(frame(0.01, 6).as_bytes(), &address).unwrap();
+    wait_for(&mut source, 1.0, 2);
+    let (pose, feed) = source.poll(1.0);
+    assert_eq!(feed, Feed::Live);
+    assert_eq!(pose.time, 0.01);
+}

@@ -47,8 +47,8 @@ fn half_second() -> f64 {
     0.5
 }
 
-/// The section's source, its mapping and the clip (whose rest frame is the operator's rest
-/// pose; for a stream, the file's first frame).
+/// The section's source, its mapping and the clip (whose frame `skeleton.rest_frame` of the
+/// mapping is the operator's rest pose, for a stream too).
 pub struct Operator {
     pub source: Box<dyn MocapSource>,
     pub mapping: Mapping,

@@ -110,6 +110,6 @@ fn send_plays_a_clip_to_a_receiver_on_the_loopback() {
     assert!(String::from_utf8_lossy(&o.stdout).starts_with("sent "));
     // TIME, then one value per channel of the clip.
     let words: Vec<&str> = first.split_whitespace().collect();
-    assert_eq!(words[0], "0");
+    assert_eq!(words[0].parse::<f64>().ok(), Some(0.0));
     assert!(words.len() > 1 && words[1..].iter().all(|w| w.parse::<f64>().is_ok()));
 }

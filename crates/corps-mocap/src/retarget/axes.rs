@@ -248,7 +248,9 @@ mod tests {
         // The twist about y of a rotation about y and a swing about x.
         let d = r(&Vector3::y(), 1.3) * r(&Vector3::x(), 0.2);
         let t = twist(&d, &Vector3::y());
-        assert!((t - 1.3).abs() < 0.02, "{t}");
+        // Ry(a) Rx(b) = (cos a/2 cos b/2, cos a/2 sin b/2, sin a/2 cos b/2, −sin a/2 sin b/2):
+        // its twist about y, 2 atan2(q_y, w), is a exactly.
+        assert!((t - 1.3).abs() < 1e-12, "{t}");
         assert!((twist(&r(&Vector3::y(), -2.0), &Vector3::y()) + 2.0).abs() < 1e-12);
     }
 }

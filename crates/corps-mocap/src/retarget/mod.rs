@@ -301,11 +301,10 @@ impl Retargeter {
             for &id in &ids {
                 let j = &model.joints[id];
                 let axis = match &j.kind {
-                    corps_model::JointKind::Revolute { axis }
-                    | corps_model::JointKind::RevoluteUnbounded { axis } => *axis,
+                    corps_model::JointKind::Revolute { axis } => *axis,
                     _ => {
                         return mapping.error(format!(
-                            "groups[{k}].robot: '{}' is not a revolute joint",
+                            "groups[{k}].robot: '{}' is not a bounded revolute joint (continuous and prismatic joints are not retargeted)",
                             j.name
                         ))
                     }

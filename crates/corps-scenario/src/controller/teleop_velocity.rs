@@ -270,11 +270,11 @@ impl TeleopVelocityController {
         let waist_z = state.frame_placement(&model, robot.base)?.translation.z;
         let joints = retargeter.joints.clone();
         let n = joints.len();
+        // The free-flyer's configuration (none for a fixed base).
+        let base_len = if model.has_free_flyer() { 7 } else { 0 };
         let mut q_ref = robot.posture.clone();
         // The base of the posture reference is where the robot stands (the neck's reference).
-        q_ref
-            .rows_mut(0, 7.min(model.nq))
-            .copy_from(&q.rows(0, 7.min(model.nq)));
+        q_ref.rows_mut(0, base_len).copy_from(&q.rows(0, base_len));
         Ok(Self {
             ik,
             state,
@@ -295,7 +295,7 @@ impl TeleopVelocityController {
             previous: vec![0.0; n],
             pose_time: None,
             actuated,
-            base_pose: q.rows(0, 7.min(model.nq)).into_owned(),
+            base_pose: q.rows(0, base_len).into_owned(),
             q_ref,
             sole_z,
             waist_z,
@@ -333,7 +333,8 @@ impl TeleopVelocityController {
                 );
                 match self.pose_time {
                     Some(before) if new && pose.time > before && feed == Feed::Live => {
-                        let dt = pose.time - before;
+                        // Frames closer than a control period (a jittery stream) count as one period apart.
+                        let dt = (pose.time - before).max(self.ik.dt);
                         for (i, &a) in self.actuated.iter().enumerate() {
                             self.v_ref[a] = (self.robot_angles[i] - self.previous[i]) / dt;
                         }
