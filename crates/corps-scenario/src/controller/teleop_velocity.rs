@@ -104,7 +104,19 @@ struct Stats {
     samples: usize,
     limit_violations: usize,
     lost_ticks: usize,
+    /// The robot's steps as its feet's F/T sensors see them: a foot unloaded below
+    /// [`UNLOADED`], then loaded past Table 6.2's F_touchdown ([`TOUCHDOWN`]) at least
+    /// [`STEP_TRAVEL`] from where it lifted.
+    robot_steps: usize,
+    lifted_at: [Option<Vector3<f64>>; 2],
 }
+
+/// A foot carrying less than this (N) is off the ground.
+pub const UNLOADED: f64 = 20.0;
+/// Seed 001 Table 6.2's F_touchdown (N).
+pub const TOUCHDOWN: f64 = 80.0;
+/// A foot that lands this far (m) from where it lifted has stepped.
+pub const STEP_TRAVEL: f64 = 0.01;
 
 pub struct TeleopVelocityController {
     model: Arc<Model>,
@@ -388,8 +400,23 @@ impl TeleopVelocityController {
         Ok(())
     }
 
-    /// The measured upper body against the retargeted references, and the joint limits.
-    fn record(&mut self, q: &[f64]) {
+    /// The measured upper body against the retargeted references, the joint limits, and the
+    /// robot's steps.
+    fn record(&mut self, q: &[f64], measured: &super::Measured) {
+        for k in 0..2 {
+            let fz = measured.foot_wrenches[k].force.z;
+            let at = measured.feet[k].translation.vector;
+            match self.stats.lifted_at[k] {
+                None if fz < UNLOADED => self.stats.lifted_at[k] = Some(at),
+                Some(from) if fz > TOUCHDOWN => {
+                    if (at - from).xy().norm() >= STEP_TRAVEL {
+                        self.stats.robot_steps += 1;
+                    }
+                    self.stats.lifted_at[k] = None;
+                }
+                _ => {}
+            }
+        }
         if self.fed {
             for (i, j) in self.joints.iter().enumerate() {
                 let e = (q[j.q_index] - self.robot_angles[i]).abs().to_degrees();
@@ -420,10 +447,10 @@ impl WholeBodyController for TeleopVelocityController {
         q: &[f64],
         _v: &[f64],
         _targets: &Targets,
-        _measured: &super::Measured,
+        measured: &super::Measured,
     ) -> Option<FallbackReason> {
         let model = self.model.clone();
-        self.record(q);
+        self.record(q, measured);
         let references = self.follow(t);
         super::ik::position_tick(
             &model,
@@ -458,7 +485,7 @@ impl WholeBodyController for TeleopVelocityController {
         let all: f64 = s.square_sum.iter().sum::<f64>() / (n * self.joints.len().max(1) as f64);
         Some(crate::metrics::TeleopMetrics {
             operator_steps: self.steps.count,
-            robot_steps: 0,
+            robot_steps: s.robot_steps,
             upper_body_rms_deg: all.sqrt(),
             upper_body_max_deg: s.max.iter().copied().fold(0.0, f64::max),
             joint_limit_violations: s.limit_violations,
