@@ -91,6 +91,7 @@ out=$(mktemp -d)
   bash tools/results/hip.sh ./target/release/corps
   cat tools/results/cmaes.md
   bash tools/results/learning.sh ./target/release/corps
+  bash tools/results/mocap_teleop.sh ./target/release/corps
   bash tools/results/actuators.sh ./target/release/corps
   bash tools/results/icub_stepping.sh ./target/release/corps
   bash tools/results/crossval.sh

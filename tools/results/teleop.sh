@@ -1,56 +1,45 @@
 #!/usr/bin/env bash
-# RESULTS.md's section on teleoperation from motion capture (issue 24, seed 001 S12): the prose
-# (teleop.md), then every scenario of scenarios/teleop/ with a [mocap] section run with
-# `corps run`, and every shared clip retargeted with `corps mocap retarget`, read back here.
-# Usage (from the repository root): bash tools/results/teleop.sh [CORPS]
+# RESULTS.md's section on keyboard teleoperation: the prose (teleop.md) and a table of key-script
+# sessions of `corps teleop --keys` (headless, the same code as at the keyboard), each run and
+# read back here. Usage (from the repository root): bash tools/results/teleop.sh [CORPS]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 corps=${1:-./target/release/corps}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
+# A 300 N shove to the left for 0.2 s at 3 s on the walking robot.
+{ cat scenarios/teleop/talos_keyboard.toml
+  printf '\n[[push]]\nframe = "base_link"\nstart = 3.0\nduration = 0.2\nforce = [0.0, 300.0, 0.0]\n'
+} > "$out/shoved.toml"
+printf '0.5 i\n' > "$out/walk.keys"
 
 cat tools/results/teleop.md
 echo
-echo "### Replays (S12; scenarios/teleop/, teleoperation double support)"
-echo
-echo "| scenario | verdict | operator steps | robot steps | upper body RMS (°) | upper body max (°) | ticks with a joint past its limits | worst joint (RMS °) |"
-echo "|---|---|---:|---:|---:|---:|---:|---|"
-for f in scenarios/teleop/*.toml; do
-  grep -q '^\[mocap\]' "$f" || continue
-  n=$(basename "$f" .toml)
-  "$corps" run "$f" -o "$out/$n" > /dev/null 2>&1 || true
-  python3 - "$out/$n/metrics.json" "$n" <<'PY'
-import json, sys
-m = json.load(open(sys.argv[1]))
-worst = max(m["upper_body"], key=lambda j: j["rms_deg"])
-print(f"| {sys.argv[2]} | {m['verdict']['verdict']} | {m['operator_steps']} | {m['robot_steps']} | "
-      f"{m['upper_body_rms_deg']:.2f} | {m['upper_body_max_deg']:.2f} | {m['joint_limit_violations']} | "
-      f"{worst['joint']} ({worst['rms_deg']:.1f}) |")
+echo "| session | keys | duration (s) | ended | travelled (m) | turned (°) | steps | plan CoM y at the end (mm) | base y at the end (mm) | median tick (µs) | wall time (s) |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|"
+session() { # name, scenario ('' = the default), keys, duration
+  local name=$1 scenario=$2 keys=$3 duration=$4
+  local start end
+  start=$(date +%s.%N)
+  # shellcheck disable=SC2086
+  "$corps" teleop $scenario --keys "$keys" --duration "$duration" -o "$out/$name" > "$out/$name.txt" 2>/dev/null || true
+  end=$(date +%s.%N)
+  python3 - "$out/$name" "$out/$name.txt" "$name" "$keys" "$duration" "$start" "$end" <<'PY'
+import csv, json, re, sys
+d, report, name, keys, duration, start, end = sys.argv[1:]
+text = open(report).read()
+rows = list(csv.DictReader(open(f"{d}/log.csv")))
+m = json.load(open(f"{d}/metrics.json"))
+v = m["verdict"]
+ended = v["verdict"] if v.get("t") is None else f"{v['verdict']} at {v['t']:.2f} s"
+num = lambda pattern: float(re.search(pattern, text).group(1))
+print(f"| {name} | `{keys.split('/')[-1] if keys.startswith('scenarios') else 'walk 0.1 m/s, shoved'}` | {m['duration']:.1f} | {ended} "
+      f"| {num(r'travelled ([0-9.]+) m'):.3f} | {num(r'turned (-?[0-9.]+)°'):.1f} | {int(num(r'([0-9]+) steps'))} "
+      f"| {1e3 * float(rows[-1]['com_ref_y']):.1f} | {1e3 * float(rows[-1]['base_y']):.1f} "
+      f"| {m['tick_time']['median_us']:.1f} | {float(end) - float(start):.2f} |")
 PY
-done
-echo
-echo "### Retargeting alone (corps mocap retarget; every shared clip onto both robots)"
-echo
-echo "| clip | robot | frames | operator steps | steps clipped | joints clipped (frames, largest clip °) |"
-echo "|---|---|---:|---:|---:|---|"
-for clip in ../shared/data/mocap/*.bvh; do
-  c=$(basename "$clip" .bvh)
-  for robot in icub talos; do
-    "$corps" mocap retarget "$clip" --mapping "config/$robot/retargeting.toml" -o "$out/r_${c}_$robot" > "$out/r.txt" 2>&1 || { echo "| $c | $robot | failed | | | |"; continue; }
-    python3 - "$out/r_${c}_$robot" "$c" "$robot" <<'PY'
-import csv, math, sys
-d, c, robot = sys.argv[1:]
-rows = list(csv.DictReader(open(f"{d}/joints.csv")))
-steps = list(csv.DictReader(open(f"{d}/steps.csv")))
-joints = [k for k in rows[0] if k not in ("time", "waist_height") and not k.startswith("operator_")]
-clipped = []
-for j in joints:
-    diff = [abs(float(r["operator_" + j]) - float(r[j])) for r in rows]
-    n = sum(1 for x in diff if x > 0)
-    if n:
-        clipped.append(f"{j} {n} ({math.degrees(max(diff)):.1f})")
-sc = sum(1 for s in steps if s["clipped"] == "true")
-print(f"| {c} | {robot} | {len(rows)} | {len(steps)} | {sc} | {', '.join(clipped) or 'none'} |")
-PY
-  done
-done
+}
+session forward_turn "" scenarios/teleop/forward_turn.keys 13
+session straight "" scenarios/teleop/straight.keys 14
+session all_out "" scenarios/teleop/all_out.keys 14
+session shoved "$out/shoved.toml" "$out/walk.keys" 60

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# RESULTS.md's section on teleoperation from motion capture (issue 24, seed 001 S12): the prose
+# (mocap_teleop.md), then every scenario of scenarios/teleop/ with a [mocap] section run with
+# `corps run`, and every shared clip retargeted with `corps mocap retarget`, read back here.
+# Usage (from the repository root): bash tools/results/mocap_teleop.sh [CORPS]
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+corps=${1:-./target/release/corps}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+
+cat tools/results/mocap_teleop.md
+echo
+echo "### Replays (S12; scenarios/teleop/, teleoperation double support)"
+echo
+echo "| scenario | verdict | operator steps | robot steps | upper body RMS (°) | upper body max (°) | ticks with a joint past its limits | worst joint (RMS °) |"
+echo "|---|---|---:|---:|---:|---:|---:|---|"
+for f in scenarios/teleop/*.toml; do
+  grep -q '^\[mocap\]' "$f" || continue
+  n=$(basename "$f" .toml)
+  "$corps" run "$f" -o "$out/$n" > /dev/null 2>&1 || true
+  python3 - "$out/$n/metrics.json" "$n" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))
+worst = max(m["upper_body"], key=lambda j: j["rms_deg"])
+print(f"| {sys.argv[2]} | {m['verdict']['verdict']} | {m['operator_steps']} | {m['robot_steps']} | "
+      f"{m['upper_body_rms_deg']:.2f} | {m['upper_body_max_deg']:.2f} | {m['joint_limit_violations']} | "
+      f"{worst['joint']} ({worst['rms_deg']:.1f}) |")
+PY
+done
+echo
+echo "### Retargeting alone (corps mocap retarget; every shared clip onto both robots)"
+echo
+echo "| clip | robot | frames | operator steps | steps clipped | joints clipped (frames, largest clip °) |"
+echo "|---|---|---:|---:|---:|---|"
+for clip in ../shared/data/mocap/*.bvh; do
+  c=$(basename "$clip" .bvh)
+  for robot in icub talos; do
+    "$corps" mocap retarget "$clip" --mapping "config/$robot/retargeting.toml" -o "$out/r_${c}_$robot" > "$out/r.txt" 2>&1 || { echo "| $c | $robot | failed | | | |"; continue; }
+    python3 - "$out/r_${c}_$robot" "$c" "$robot" <<'PY'
+import csv, math, sys
+d, c, robot = sys.argv[1:]
+rows = list(csv.DictReader(open(f"{d}/joints.csv")))
+steps = list(csv.DictReader(open(f"{d}/steps.csv")))
+joints = [k for k in rows[0] if k not in ("time", "waist_height") and not k.startswith("operator_")]
+clipped = []
+for j in joints:
+    diff = [abs(float(r["operator_" + j]) - float(r[j])) for r in rows]
+    n = sum(1 for x in diff if x > 0)
+    if n:
+        clipped.append(f"{j} {n} ({math.degrees(max(diff)):.1f})")
+sc = sum(1 for s in steps if s["clipped"] == "true")
+print(f"| {c} | {robot} | {len(rows)} | {len(steps)} | {sc} | {', '.join(clipped) or 'none'} |")
+PY
+  done
+done
