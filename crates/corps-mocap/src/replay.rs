@@ -6,9 +6,7 @@ use crate::bvh::Bvh;
 use crate::error::Result;
 use crate::retarget::{MappedJoint, Mapping, Retargeter};
 use crate::skeleton::Skeleton;
-use crate::source::{ClipSource, MocapSource};
 use crate::steps::{Step, StepDetector};
-use crate::MocapError;
 
 /// A clip retargeted onto a robot.
 #[derive(Clone, Debug)]
@@ -35,28 +33,11 @@ pub struct Retargeted {
 pub fn retarget_clip(mapping: &Mapping, bvh: &Bvh) -> Result<Retargeted> {
     let robot = mapping.robot()?;
     let spec = &mapping.spec;
-    let rest_frame = spec.skeleton.rest_frame;
-    if rest_frame >= bvh.frames() {
-        return Err(MocapError::Mapping {
-            file: mapping.file.clone(),
-            message: format!(
-                "skeleton.rest_frame {rest_frame}: the clip has {} frames",
-                bvh.frames()
-            ),
-        });
-    }
     let skeleton = Skeleton::new(bvh, mapping.units());
-    let rest = skeleton.pose(bvh.frame(rest_frame), rest_frame as f64 * bvh.frame_time);
+    let rest = mapping.rest_pose(&skeleton, bvh)?;
     let mut r = Retargeter::new(mapping, &robot, &skeleton, &rest)?;
-    let feet = [
-        skeleton.joint(&spec.skeleton.feet[0]).unwrap_or(0),
-        skeleton.joint(&spec.skeleton.feet[1]).unwrap_or(0),
-    ];
-    let foot = |pose: &crate::skeleton::Pose, r: &Retargeter, k: usize| {
-        r.in_body(&pose.world[feet[k]].translation.vector)
-    };
-    let mut detector = StepDetector::new(&spec.steps, [foot(&rest, &r, 0), foot(&rest, &r, 1)]);
-    let mut source = ClipSource::new(bvh.clone(), mapping.units());
+    let mut detector = StepDetector::new(&spec.steps, r.feet(&rest));
+    let mut pose = skeleton.empty_pose();
     let n = r.joints.len();
     let mut out = Retargeted {
         robot: robot.name.clone(),
@@ -73,19 +54,13 @@ pub fn retarget_clip(mapping: &Mapping, bvh: &Bvh) -> Result<Retargeted> {
     };
     for k in 0..bvh.frames() {
         let t = k as f64 * bvh.frame_time;
-        let (pose, _) = source.poll(t);
+        skeleton.pose_into(bvh.frame(k), t, &mut pose);
         let mut operator = vec![0.0; n];
         let mut clipped = vec![0.0; n];
-        r.joints_into(pose, &mut operator, &mut clipped);
-        out.waist.push(r.waist_height(pose));
-        let feet_now = [foot(pose, &r, 0), foot(pose, &r, 1)];
-        // Both feet may land on one frame: the second is read on a second call.
-        for _ in 0..2 {
-            match detector.update(t, feet_now) {
-                Some(step) => out.steps.push(step),
-                None => break,
-            }
-        }
+        r.joints_into(&pose, &mut operator, &mut clipped);
+        out.waist.push(r.waist_height(&pose));
+        out.steps
+            .extend(detector.update(t, r.feet(&pose)).into_iter().flatten());
         out.time.push(t);
         out.operator.push(operator);
         out.clipped.push(clipped);

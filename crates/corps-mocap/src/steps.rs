@@ -74,10 +74,11 @@ impl StepDetector {
         matches!(self.state[k], FootState::Stepping { .. })
     }
 
-    /// Feeds the feet's positions at `t`; a step that ends here is returned (one foot's; the
-    /// left's first if both end on the same frame, the other's on the next call).
-    pub fn update(&mut self, t: f64, feet: [Vector3<f64>; 2]) -> Option<Step> {
+    /// Feeds the feet's positions at `t`; the steps that end here are returned, left foot's
+    /// then right foot's.
+    pub fn update(&mut self, t: f64, feet: [Vector3<f64>; 2]) -> [Option<Step>; 2] {
         let s = &self.spec;
+        let mut ended = [None; 2];
         if feet[0].z.is_finite() && feet[1].z.is_finite() {
             self.ground = self.ground.min(feet[0].z).min(feet[1].z);
         }
@@ -111,13 +112,14 @@ impl StepDetector {
                         if step.clipped {
                             self.clipped += 1;
                         }
-                        return Some(step);
+                        ended[k] = Some(step);
+                    } else {
+                        self.state[k] = FootState::Stepping { from, start, top };
                     }
-                    self.state[k] = FootState::Stepping { from, start, top };
                 }
             }
         }
-        None
+        ended
     }
 
     fn normalise(&self, foot: usize, start: f64, end: f64, d: Vector3<f64>, top: f64) -> Step {

@@ -35,14 +35,7 @@ fn a_tick_of_retargeting_does_not_allocate() {
         let skeleton = Skeleton::new(&bvh, m.units());
         let rest = skeleton.pose(bvh.frame(0), 0.0);
         let mut r = Retargeter::new(&m, &model, &skeleton, &rest).unwrap();
-        let feet = [
-            skeleton.joint(&m.spec.skeleton.feet[0]).unwrap(),
-            skeleton.joint(&m.spec.skeleton.feet[1]).unwrap(),
-        ];
-        let body = |p: &corps_mocap::skeleton::Pose, r: &Retargeter| {
-            feet.map(|k| r.in_body(&p.world[k].translation.vector))
-        };
-        let mut steps = StepDetector::new(&m.spec.steps, body(&rest, &r));
+        let mut steps = StepDetector::new(&m.spec.steps, r.feet(&rest));
         let mut source = ClipSource::new(bvh.clone(), m.units());
         let n = r.joints.len();
         let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
@@ -55,8 +48,7 @@ fn a_tick_of_retargeting_does_not_allocate() {
             let (pose, _) = source.poll(t);
             r.joints_into(pose, &mut a, &mut b);
             waist += r.waist_height(pose);
-            let f = body(pose, &r);
-            steps.update(t, f);
+            steps.update(t, r.feet(pose));
         }
         let count = allocations() - before;
         assert!(waist.is_finite());

@@ -49,7 +49,10 @@ fn median_retarget() -> f64 {
     let robot = op.mapping.robot().expect("the robot");
     let units = op.mapping.units();
     let skeleton = corps_mocap::skeleton::Skeleton::new(&op.clip, units);
-    let rest = skeleton.pose(op.clip.frame(0), 0.0);
+    let rest = op
+        .mapping
+        .rest_pose(&skeleton, &op.clip)
+        .expect("the rest pose");
     let mut r = corps_mocap::retarget::Retargeter::new(&op.mapping, &robot, &skeleton, &rest)
         .expect("the retargeting");
     let poses: Vec<_> = (0..op.clip.frames())

@@ -1,56 +1,16 @@
 //! Joint angles of a chain of revolute joints from a rotation: with the chain's axes a₁…aₙ at
 //! rest (nearest the root first, in one frame), the rotation it makes is the product of
-//! exponentials `D = R(a₁, q₁) ⋯ R(aₙ, qₙ)`; given D, the angles are its Euler angles about
-//! those axes. Three orthogonal axes give them exactly (`Bᵀ D B = Rx(q₁) Ry(q₂) Rz(q₃)` with
-//! B = [a₁ a₂ a₃], a₃ negated if B is a reflection); axes not quite orthogonal are made so
-//! (Gram–Schmidt, nearest the root kept); two axes are completed by a₁ × a₂ and the third
-//! angle dropped; one axis takes the twist of D about it (swing–twist decomposition).
-//!
-//! Chains whose axes are far from orthogonal (a z–x–z shoulder: its first and last axes
-//! parallel at zero roll) have no such closed form: [`solve_chain`] finds the angles by
+//! exponentials `D = R(a₁, q₁) ⋯ R(aₙ, qₙ)`. [`solve_chain`] finds the angles by
 //! Levenberg–Marquardt on the rotation error `e = log(D R(q)ᵀ)` with the chain's spatial
 //! Jacobian `ωᵢ = R(a₁, q₁) ⋯ R(aᵢ₋₁, qᵢ₋₁) aᵢ`, warm-started from the previous frame's angles
-//! so that a stream of poses gives a continuous stream of angles.
+//! so that a stream of poses gives a continuous stream of angles; it also serves chains whose
+//! axes are far from orthogonal (a z–x–z shoulder: its first and last axes parallel at zero
+//! roll), which have no closed form. The tests check it against the closed forms where they
+//! exist: three orthogonal axes give the Euler angles exactly (`Bᵀ D B = Rx(q₁) Ry(q₂) Rz(q₃)`
+//! with B = [a₁ a₂ a₃], a₃ negated if B is a reflection), two axes are completed by a₁ × a₂,
+//! and one axis takes the twist of D about it (swing–twist decomposition).
 
-use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
-
-/// The angles of the chain with `axes` (1 to 3 unit vectors, the frame of `d`) making `d`,
-/// written to `out` (one per axis).
-pub fn chain_angles(axes: &[Vector3<f64>], d: &Rotation3<f64>, out: &mut [f64]) {
-    match axes.len() {
-        1 => out[0] = twist(d, &axes[0]),
-        2 | 3 => {
-            let a1 = axes[0].normalize();
-            let a2 = (axes[1] - a1 * a1.dot(&axes[1])).normalize();
-            let (a3, sign) = if axes.len() == 3 {
-                let mut a3 = axes[2] - a1 * a1.dot(&axes[2]);
-                a3 -= a2 * a2.dot(&a3);
-                let a3 = a3.normalize();
-                // B a proper rotation: a₃ along a₁ × a₂, its angle's sign flipped if it was not.
-                if a1.cross(&a2).dot(&a3) < 0.0 {
-                    (-a3, -1.0)
-                } else {
-                    (a3, 1.0)
-                }
-            } else {
-                (a1.cross(&a2), 1.0)
-            };
-            let b = Matrix3::from_columns(&[a1, a2, a3]);
-            let m = b.transpose() * d.matrix() * b;
-            // Rx(q1) Ry(q2) Rz(q3): m[(0,2)] = sin q2, m[(1,2)] = −sin q1 cos q2,
-            // m[(2,2)] = cos q1 cos q2, m[(0,1)] = −cos q2 sin q3, m[(0,0)] = cos q2 cos q3.
-            let q2 = m[(0, 2)].clamp(-1.0, 1.0).asin();
-            let q1 = (-m[(1, 2)]).atan2(m[(2, 2)]);
-            let q3 = (-m[(0, 1)]).atan2(m[(0, 0)]);
-            out[0] = q1;
-            out[1] = q2;
-            if axes.len() == 3 {
-                out[2] = sign * q3;
-            }
-        }
-        _ => {}
-    }
-}
+use nalgebra::{Matrix3, Rotation3, Vector3};
 
 /// Angles `q` (warm start in, solution out; one per axis, 1 to 3) of the chain with `axes`
 /// nearest to making `d`: least squares on the rotation vector of the error plus
@@ -157,23 +117,62 @@ fn log(e: &Rotation3<f64>) -> Vector3<f64> {
     v * (s.atan2(c) / s)
 }
 
-/// The twist angle of `d` about the unit axis `a`, in (−π, π].
-pub fn twist(d: &Rotation3<f64>, a: &Vector3<f64>) -> f64 {
-    let q = UnitQuaternion::from_rotation_matrix(d);
-    let a = a.normalize();
-    let angle = 2.0 * q.imag().dot(&a).atan2(q.w);
-    if angle > std::f64::consts::PI {
-        angle - std::f64::consts::TAU
-    } else if angle <= -std::f64::consts::PI {
-        angle + std::f64::consts::TAU
-    } else {
-        angle
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::UnitQuaternion;
+
+    /// The angles of the chain with `axes` (1 to 3 unit vectors, the frame of `d`) making `d`,
+    /// written to `out` (one per axis).
+    fn chain_angles(axes: &[Vector3<f64>], d: &Rotation3<f64>, out: &mut [f64]) {
+        match axes.len() {
+            1 => out[0] = twist(d, &axes[0]),
+            2 | 3 => {
+                let a1 = axes[0].normalize();
+                let a2 = (axes[1] - a1 * a1.dot(&axes[1])).normalize();
+                let (a3, sign) = if axes.len() == 3 {
+                    let mut a3 = axes[2] - a1 * a1.dot(&axes[2]);
+                    a3 -= a2 * a2.dot(&a3);
+                    let a3 = a3.normalize();
+                    // B a proper rotation: a₃ along a₁ × a₂, its angle's sign flipped if it was not.
+                    if a1.cross(&a2).dot(&a3) < 0.0 {
+                        (-a3, -1.0)
+                    } else {
+                        (a3, 1.0)
+                    }
+                } else {
+                    (a1.cross(&a2), 1.0)
+                };
+                let b = Matrix3::from_columns(&[a1, a2, a3]);
+                let m = b.transpose() * d.matrix() * b;
+                // Rx(q1) Ry(q2) Rz(q3): m[(0,2)] = sin q2, m[(1,2)] = −sin q1 cos q2,
+                // m[(2,2)] = cos q1 cos q2, m[(0,1)] = −cos q2 sin q3, m[(0,0)] = cos q2 cos q3.
+                let q2 = m[(0, 2)].clamp(-1.0, 1.0).asin();
+                let q1 = (-m[(1, 2)]).atan2(m[(2, 2)]);
+                let q3 = (-m[(0, 1)]).atan2(m[(0, 0)]);
+                out[0] = q1;
+                out[1] = q2;
+                if axes.len() == 3 {
+                    out[2] = sign * q3;
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// The twist angle of `d` about the unit axis `a`, in (−π, π].
+    fn twist(d: &Rotation3<f64>, a: &Vector3<f64>) -> f64 {
+        let q = UnitQuaternion::from_rotation_matrix(d);
+        let a = a.normalize();
+        let angle = 2.0 * q.imag().dot(&a).atan2(q.w);
+        if angle > std::f64::consts::PI {
+            angle - std::f64::consts::TAU
+        } else if angle <= -std::f64::consts::PI {
+            angle + std::f64::consts::TAU
+        } else {
+            angle
+        }
+    }
 
     fn r(a: &Vector3<f64>, q: f64) -> Rotation3<f64> {
         Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(*a), q)
@@ -245,6 +244,10 @@ mod tests {
             (out[0] - 0.4).abs() < 1e-12 && (out[1] + 0.7).abs() < 1e-12,
             "{out:?}"
         );
+        // The solve gives the same angles from a start at rest.
+        let mut q = [0.0; 2];
+        let residual = solve_chain(&axes, &d, &mut q, 0.0);
+        assert!(residual < 1e-9 && (q[0] - out[0]).abs() < 1e-9 && (q[1] - out[1]).abs() < 1e-9);
         // The twist about y of a rotation about y and a swing about x.
         let d = r(&Vector3::y(), 1.3) * r(&Vector3::x(), 0.2);
         let t = twist(&d, &Vector3::y());
@@ -252,5 +255,8 @@ mod tests {
         // its twist about y, 2 atan2(q_y, w), is a exactly.
         assert!((t - 1.3).abs() < 1e-12, "{t}");
         assert!((twist(&r(&Vector3::y(), -2.0), &Vector3::y()) + 2.0).abs() < 1e-12);
+        let mut q = [0.0];
+        solve_chain(&[Vector3::y()], &r(&Vector3::y(), -2.0), &mut q, 0.0);
+        assert!((q[0] + 2.0).abs() < 1e-9, "{q:?}");
     }
 }

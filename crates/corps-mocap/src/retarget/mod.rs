@@ -180,6 +180,18 @@ impl Mapping {
         })
     }
 
+    /// The operator's rest pose: frame `skeleton.rest_frame` of `clip`.
+    pub fn rest_pose(&self, skeleton: &Skeleton, clip: &crate::bvh::Bvh) -> Result<Pose> {
+        let k = self.spec.skeleton.rest_frame;
+        if k >= clip.frames() {
+            return self.error(format!(
+                "skeleton.rest_frame {k}: the clip has {} frames",
+                clip.frames()
+            ));
+        }
+        Ok(skeleton.pose(clip.frame(k), k as f64 * clip.frame_time))
+    }
+
     /// How to read the operator's files.
     pub fn units(&self) -> Units {
         Units {
@@ -193,7 +205,6 @@ impl Mapping {
 /// the chain's axes in the robot's world at rest.
 struct Group {
     human: Vec<usize>,
-    q_index: Vec<usize>,
     axes: Vec<Vector3<f64>>,
 }
 
@@ -222,6 +233,8 @@ pub struct Retargeter {
     /// The operator's floor height (m, world).
     floor: f64,
     waist: usize,
+    /// The operator's feet (left, right).
+    feet: [usize; 2],
     /// Eq 6.3–6.5: the operator's and the robot's waist heights at rest (m).
     pub waist_rest_human: f64,
     pub waist_rest_robot: f64,
@@ -252,8 +265,10 @@ impl Retargeter {
             human(&s.hips[0], "skeleton.hips")?,
             human(&s.hips[1], "skeleton.hips")?,
         ];
-        human(&s.feet[0], "skeleton.feet")?;
-        human(&s.feet[1], "skeleton.feet")?;
+        let feet = [
+            human(&s.feet[0], "skeleton.feet")?,
+            human(&s.feet[1], "skeleton.feet")?,
+        ];
         let body = body_frame(rest, hips);
         let floor = rest
             .world
@@ -297,7 +312,6 @@ impl Retargeter {
                 }
             }
             let mut axes = Vec::new();
-            let mut q_index = Vec::new();
             for &id in &ids {
                 let j = &model.joints[id];
                 let axis = match &j.kind {
@@ -310,7 +324,6 @@ impl Retargeter {
                     }
                 };
                 axes.push(data.o_m_i[id].rotation * axis);
-                q_index.push(j.idx_q);
                 joints.push(MappedJoint {
                     name: j.name.clone(),
                     q_index: j.idx_q,
@@ -321,7 +334,6 @@ impl Retargeter {
             }
             groups.push(Group {
                 human: human_joints,
-                q_index,
                 axes,
             });
         }
@@ -352,6 +364,7 @@ impl Retargeter {
             body,
             floor,
             waist,
+            feet,
             waist_rest_human,
             waist_rest_robot,
             clipped: vec![0; n],
@@ -393,7 +406,7 @@ impl Retargeter {
                 }
                 w += 1;
             }
-            for (i, d) in delta.iter().enumerate().take(n) {
+            for d in delta.iter().take(n) {
                 let j = &self.joints[k];
                 let s = j.rest + d;
                 operator[k] = s;
@@ -402,7 +415,6 @@ impl Retargeter {
                     self.clipped[k] += 1;
                 }
                 robot[k] = c;
-                debug_assert_eq!(g.q_index[i], j.q_index);
                 k += 1;
             }
         }
@@ -413,6 +425,12 @@ impl Retargeter {
         let z = pose.world[self.waist].translation.vector.z - self.floor;
         self.waist_rest_robot
             + self.waist_rest_robot / self.waist_rest_human * (z - self.waist_rest_human)
+    }
+
+    /// The operator's feet in `pose`, in body coordinates at rest (z above the floor).
+    pub fn feet(&self, pose: &Pose) -> [Vector3<f64>; 2] {
+        self.feet
+            .map(|k| self.in_body(&pose.world[k].translation.vector))
     }
 
     /// A point of the world in the operator's body coordinates at rest (x forward, y left,

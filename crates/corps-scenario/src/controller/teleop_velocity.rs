@@ -27,7 +27,7 @@ use corps_model::spatial::Motion;
 use corps_model::Model;
 use corps_robot::Robot;
 use corps_sim::Command;
-use nalgebra::{DVector, Vector3, Vector6};
+use nalgebra::{DVector, Matrix3, Vector3, Vector6};
 use serde::Deserialize;
 use std::sync::Arc;
 
@@ -128,7 +128,6 @@ pub struct TeleopVelocityController {
     operator: Operator,
     retargeter: Retargeter,
     steps: StepDetector,
-    feet_joints: [usize; 2],
     joints: Vec<MappedJoint>,
     operator_angles: Vec<f64>,
     robot_angles: Vec<f64>,
@@ -144,9 +143,10 @@ pub struct TeleopVelocityController {
     /// Sole height (world) the waist height is measured from.
     sole_z: f64,
     waist_z: f64,
-    /// The neck frame and a scratch model state for its reference orientation.
+    /// The neck frame and a scratch model state for its reference orientation (the posture
+    /// reference's, updated with each new operator pose).
     neck: Option<(usize, corps_model::Data)>,
-    base_pose: DVector<f64>,
+    neck_rotation: Matrix3<f64>,
     stats: Stats,
     fed: bool,
 }
@@ -177,24 +177,13 @@ impl TeleopVelocityController {
                 robot.name
             ));
         }
-        let spec = &operator.mapping.spec;
         let skeleton = Skeleton::new(&operator.clip, operator.mapping.units());
-        let rest_frame = spec.skeleton.rest_frame;
-        if rest_frame >= operator.clip.frames() {
-            return Err(invalid!(
-                "mocap.mapping: skeleton.rest_frame {rest_frame}: the clip has {} frames",
-                operator.clip.frames()
-            ));
-        }
-        let rest = skeleton.pose(operator.clip.frame(rest_frame), 0.0);
+        let rest = (operator.mapping)
+            .rest_pose(&skeleton, &operator.clip)
+            .map_err(|e| invalid!("mocap.mapping: {e}"))?;
         let retargeter = Retargeter::new(&operator.mapping, robot, &skeleton, &rest)
             .map_err(|e| invalid!("mocap: {e}"))?;
-        let feet_joints = [
-            skeleton.joint(&spec.skeleton.feet[0]).unwrap_or(0),
-            skeleton.joint(&spec.skeleton.feet[1]).unwrap_or(0),
-        ];
-        let foot = |k: usize| retargeter.in_body(&rest.world[feet_joints[k]].translation.vector);
-        let steps = StepDetector::new(&spec.steps, [foot(0), foot(1)]);
+        let steps = StepDetector::new(&operator.mapping.spec.steps, retargeter.feet(&rest));
 
         let mut state = RobotState::new(&model);
         let v0 = DVector::zeros(model.nv);
@@ -240,7 +229,7 @@ impl TeleopVelocityController {
             reference(robot.base)?,
         )?;
         ik.add_task("waist", 1, w.com, waist)?;
-        let neck = match &spec.neck_frame {
+        let (neck, neck_rotation) = match &operator.mapping.spec.neck_frame {
             Some(name) => {
                 let id = model.frame_id(name).map_err(|_| {
                     invalid!(
@@ -256,9 +245,10 @@ impl TeleopVelocityController {
                     reference(id)?,
                 )?;
                 ik.add_task("neck", 1, w.neck, task)?;
-                Some((id, corps_model::Data::new(&model)))
+                let rotation = reference(id)?.placement.rotation;
+                (Some((id, corps_model::Data::new(&model))), rotation)
             }
-            None => None,
+            None => (None, Matrix3::identity()),
         };
         let na = model.na();
         let mut kp = DVector::zeros(na);
@@ -299,7 +289,6 @@ impl TeleopVelocityController {
             operator,
             retargeter,
             steps,
-            feet_joints,
             joints,
             operator_angles: vec![0.0; n],
             robot_angles: vec![0.0; n],
@@ -307,10 +296,10 @@ impl TeleopVelocityController {
             previous: vec![0.0; n],
             pose_time: None,
             actuated,
-            base_pose: q.rows(0, base_len).into_owned(),
             q_ref,
             sole_z,
             waist_z,
+            neck_rotation,
             neck,
             stats: Stats {
                 square_sum: vec![0.0; n],
@@ -334,38 +323,34 @@ impl TeleopVelocityController {
                 }
             }
             Feed::Live | Feed::Holding { .. } => {
-                let new = self.pose_time != Some(pose.time);
-                if new {
-                    self.previous.copy_from_slice(&self.robot_angles);
-                }
+                self.previous.copy_from_slice(&self.robot_angles);
                 self.retargeter.joints_into(
                     pose,
                     &mut self.operator_angles,
                     &mut self.robot_angles,
                 );
                 match self.pose_time {
-                    Some(before) if new && pose.time > before && feed == Feed::Live => {
+                    Some(before) if pose.time > before && feed == Feed::Live => {
                         // Frames closer than a control period (a jittery stream) count as one period apart.
                         let dt = (pose.time - before).max(self.ik.dt);
                         for (i, &a) in self.actuated.iter().enumerate() {
                             self.v_ref[a] = (self.robot_angles[i] - self.previous[i]) / dt;
                         }
                     }
-                    Some(_) if new || feed != Feed::Live => self.v_ref.fill(0.0),
-                    _ => {}
+                    Some(_) => self.v_ref.fill(0.0),
+                    None => {}
                 }
                 self.pose_time = Some(pose.time);
                 for (j, v) in self.joints.iter().zip(&self.robot_angles) {
                     self.q_ref[j.q_index] = *v;
                 }
                 self.waist_z = self.sole_z + self.retargeter.waist_height(pose);
-                let feet = self
-                    .feet_joints
-                    .map(|k| self.retargeter.in_body(&pose.world[k].translation.vector));
-                for _ in 0..2 {
-                    if self.steps.update(pose.time, feet).is_none() {
-                        break;
-                    }
+                self.steps.update(pose.time, self.retargeter.feet(pose));
+                if let Some((frame, data)) = &mut self.neck {
+                    let model = &self.model;
+                    corps_model::forward_kinematics_placements(model, data, self.q_ref.as_slice())?;
+                    corps_model::update_frame_placements(model, data);
+                    self.neck_rotation = data.o_m_f[*frame].rotation;
                 }
                 self.fed = true;
             }
@@ -374,7 +359,6 @@ impl TeleopVelocityController {
                 self.v_ref.fill(0.0);
             }
         }
-        let model = self.model.clone();
         let posture = self.ik.task_mut::<PostureVelocityTask>("posture")?;
         posture.q_ref.copy_from(&self.q_ref);
         posture.v_ref.copy_from(&self.v_ref);
@@ -384,18 +368,12 @@ impl TeleopVelocityController {
             .placement
             .translation
             .z = self.waist_z;
-        if let Some((frame, data)) = &mut self.neck {
-            self.q_ref
-                .rows_mut(0, self.base_pose.len())
-                .copy_from(&self.base_pose);
-            corps_model::forward_kinematics_placements(&model, data, self.q_ref.as_slice())?;
-            corps_model::update_frame_placements(&model, data);
-            let rotation = data.o_m_f[*frame].rotation;
+        if self.neck.is_some() {
             self.ik
                 .task_mut::<FrameVelocityTask>("neck")?
                 .reference
                 .placement
-                .rotation = rotation;
+                .rotation = self.neck_rotation;
         }
         Ok(())
     }
