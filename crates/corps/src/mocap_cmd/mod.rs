@@ -82,17 +82,11 @@ fn retarget(args: RetargetArgs) -> Result<()> {
     let joints_csv = joints_csv(&r);
     let steps_csv = steps_csv(&r);
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
-    write(&out.join("joints.csv"), &joints_csv)?;
-    write(&out.join("steps.csv"), &steps_csv)?;
+    crate::output::write_atomic(&out, "joints.csv", joints_csv.as_bytes())?;
+    crate::output::write_atomic(&out, "steps.csv", steps_csv.as_bytes())?;
     plots::joints(&out.join("joints.png"), &clip_name, &r)?;
     plots::steps(&out.join("steps.png"), &clip_name, &r, &mapping)?;
     crate::stdout::print(&summary(&r, &clip_name, &out))
-}
-
-fn write(path: &Path, text: &str) -> Result<()> {
-    let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("writing {}", path.display()))
 }
 
 /// `time`, then per mapped joint `operator_<joint>` and `<joint>` (rad), then `waist_height`.
