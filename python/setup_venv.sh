@@ -11,5 +11,5 @@ if [ ! -x "$venv/bin/python" ]; then
     "$python" -m venv "$venv"
     "$venv/bin/pip" install -q --upgrade pip
 fi
-"$venv/bin/pip" install -q numpy pytest pandas "pin==4.1.0" "mujoco==4.0.0" "ray==2.60.0"
-"$venv/bin/pip" install -q --force-reinstall --no-deps ./python
+"$venv/bin/pip" install -q --no-cache-dir numpy pytest pandas "pin==4.1.0" "mujoco==4.0.0" "ray==2.60.0"
+"$venv/bin/pip" install -q --no-cache-dir --force-reinstall --no-deps ./python
