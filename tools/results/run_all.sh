@@ -86,6 +86,7 @@ out=$(mktemp -d)
   cat tools/results/shortfall_causes.md
   cat tools/results/passive.md
   python3 tools/results/passive_robustness.py --corps ./target/release/corps
+  bash tools/results/drilling.sh ./target/release/corps
   cat tools/results/human_prediction.md
   bash tools/results/conav.sh ./target/release/corps
   bash tools/results/hip.sh ./target/release/corps

@@ -20,7 +20,7 @@
 
 mod cmaes;
 mod error;
-mod normal;
+pub mod normal;
 
 pub use cmaes::{Constants, OnePlusOne, Settings, StepOutcome};
 pub use error::LearnError;

@@ -20,6 +20,7 @@
 pub mod conav;
 pub mod controller;
 pub mod default_robot;
+pub mod drilling;
 pub mod drives;
 pub mod dynamic_filter;
 pub mod error;

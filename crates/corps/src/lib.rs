@@ -3,6 +3,7 @@
 //! scenarios, `corps-loop` closes the loop). Tests drive the same code the command runs.
 
 pub mod actuator_cmd;
+pub mod drill_cmd;
 pub mod interrupt;
 pub mod learn;
 pub mod mocap_cmd;

@@ -4,7 +4,7 @@
 mod model_cmd;
 mod robot_cmd;
 
-use corps::{actuator_cmd, learn, mocap_cmd, run, sim_cmd, teleop};
+use corps::{actuator_cmd, drill_cmd, learn, mocap_cmd, run, sim_cmd, teleop};
 
 use clap::{Parser, Subcommand};
 
@@ -47,6 +47,9 @@ enum Command {
     /// one on the live stream.
     #[command(subcommand)]
     Mocap(mocap_cmd::MocapCommand),
+    /// A fixed-base arm drills a plate under the passive QP (seed 000 §3.19, Table 6.2): the
+    /// clamping force against its bounds, the energy tank, the two loops.
+    Drill(drill_cmd::DrillArgs),
 }
 
 fn main() {
@@ -62,6 +65,7 @@ fn main() {
         Some(Command::Actuator(cmd)) => actuator_cmd::run(cmd),
         Some(Command::Learn(args)) => learn::run(args),
         Some(Command::Mocap(cmd)) => mocap_cmd::run(cmd),
+        Some(Command::Drill(args)) => drill_cmd::run(args),
     };
     if let Err(e) = result {
         if let Some(stop) = e.downcast_ref::<corps::interrupt::Interrupted>() {

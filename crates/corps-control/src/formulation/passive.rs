@@ -144,6 +144,17 @@ impl PassiveInverseDynamics {
         })
     }
 
+    /// Sets the control period (s) for the next tick: a loop whose ticks come at irregular
+    /// times (a best-effort high-level loop) gives the interval since the last tick. The
+    /// tank integrates its rate and expects the port's energy over this period; what the
+    /// robot really received over the true interval is booked at the next tick from Δq.
+    /// A period that is not finite and positive is ignored.
+    pub fn set_period(&mut self, dt: f64) {
+        if dt > 0.0 && dt.is_finite() {
+            self.dt = dt;
+        }
+    }
+
     /// One torque-mode tick of `id` under the tank (see the module): writes the joint torques
     /// (na) to `tau`, or the safe command and its reason. `id`'s reference scale and power
     /// row hold for this tick only: it leaves them at 1 and none.
