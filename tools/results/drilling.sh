@@ -13,8 +13,8 @@ cat tools/results/drilling.md
 echo
 echo "### The cycle and its variants (\`corps drill scenarios/drilling/ur5_drilling.toml [flags]\`)"
 echo
-echo "| flags | verdict | stations | clamp while held (N) | touch → hold: peak (N), slide (mm) | slide held (mm) | tangential / normal | hole position (mm) | QP interval (ms) | tank min (J) | local PD+ energy (J) |"
-echo "|---|---|---:|---|---|---:|---:|---:|---|---:|---:|"
+echo "| flags | verdict | stations | clamp while held (N) | touch → release: peak (N), slide (mm) | tangential / normal | hole position (mm) | QP interval (ms) | tank min (J) | QP's torques → arm (J), unpaid (J) | local loop → arm (J) |"
+echo "|---|---|---:|---|---|---:|---:|---|---:|---|---:|"
 k=0
 while IFS= read -r flags; do
   k=$((k + 1))
@@ -22,12 +22,19 @@ while IFS= read -r flags; do
   "$corps" drill scenarios/drilling/ur5_drilling.toml --quiet -o "$out/$k" $flags > /dev/null 2>&1 || true
   python3 - "$out/$k/metrics.json" "${flags:-(none: 250 Hz ± 2 ms over 500 Hz)}" <<'PY'
 import json, sys
-m = json.load(open(sys.argv[1]))
+try:
+    m = json.load(open(sys.argv[1]))
+except (OSError, ValueError) as e:
+    print(f"| `{sys.argv[2]}` | no metrics ({e}) | | | | | | | | | |")
+    sys.exit()
+def f(key, digits):
+    x = m.get(key)
+    return "—" if x is None else f"{x:.{digits}f}"
 print(f"| `{sys.argv[2]}` | {m['verdict']} | {m['stations_done']}/{m['stations']} | "
-      f"{m['clamp_min_n']:.1f}–{m['clamp_max_n']:.1f} | {m['touch_peak_n']:.1f}, {m['touch_slide_max_mm']:.2f} | "
-      f"{m['slip_max_mm']:.3f} | {m['slip_ratio_max']:.3f} | {m['hole_position_error_max_mm']:.2f} | "
-      f"{m['qp_interval_mean_ms']:.1f} ({m['qp_interval_min_ms']:.0f}–{m['qp_interval_max_ms']:.0f}) | "
-      f"{m['tank_min_j']:.2f} | {m['local_loop_energy_j']:.3f} |")
+      f"{f('clamp_min_n', 1)}–{f('clamp_max_n', 1)} | {f('contact_peak_n', 1)}, {f('slide_max_mm', 3)} | "
+      f"{f('slip_ratio_max', 3)} | {f('hole_position_error_max_mm', 2)} | "
+      f"{f('qp_interval_mean_ms', 1)} ({f('qp_interval_min_ms', 0)}–{f('qp_interval_max_ms', 0)}) | "
+      f"{f('tank_min_j', 2)} | {f('qp_energy_to_arm_j', 3)}, {m.get('tank_unpaid_j', 0):.1e} | {f('local_loop_energy_j', 3)} |")
 PY
 done <<'FLAGS'
 

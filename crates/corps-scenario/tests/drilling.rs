@@ -22,11 +22,12 @@ fn scenario() -> (DrillingScenario, PathBuf) {
     (s, path.parent().unwrap().to_path_buf())
 }
 
-/// Keeps the clamp force, its reference and the phase of every row.
+/// Keeps the time, phase, true clamp force, its reference, the QP's force and the thrust of
+/// every row.
 #[derive(Default)]
 struct Rows {
-    at: Option<[usize; 4]>,
-    rows: Vec<[f64; 4]>,
+    at: Option<[usize; 6]>,
+    rows: Vec<[f64; 6]>,
     columns: Vec<String>,
 }
 
@@ -34,7 +35,14 @@ impl RowSink for Rows {
     fn row(&mut self, _index: usize, row: &[f64]) -> Result<(), ScenarioError> {
         let at = *self.at.get_or_insert_with(|| {
             let c = |n: &str| self.columns.iter().position(|x| x == n).unwrap();
-            [c("t"), c("phase"), c("clamp_N"), c("force_ref_N")]
+            [
+                c("t"),
+                c("phase"),
+                c("clamp_N"),
+                c("force_ref_N"),
+                c("force_qp_N"),
+                c("thrust_N"),
+            ]
         });
         self.rows.push(at.map(|k| row[k]));
         Ok(())
@@ -70,11 +78,11 @@ fn a_drilling_cycle_keeps_the_clamping_force_in_its_bounds() {
         "{}",
         m.slip_ratio_max
     );
-    // The tool does not slide while it is held, nor (beyond a tenth of a millimetre) between
-    // the touch and the hold; the touch never presses above F_max.
-    assert!(m.slip_max_mm < 0.1, "{} mm", m.slip_max_mm);
-    assert!(m.touch_slide_max_mm < 0.1, "{} mm", m.touch_slide_max_mm);
-    assert!(m.touch_peak_n <= m.f_max_n, "{} N", m.touch_peak_n);
+    // From the touch to the release the tool slides less than a tenth of a millimetre and
+    // never presses above F_max; the tank pays all the QP's torques gave the arm.
+    assert!(m.slide_max_mm < 0.1, "{} mm", m.slide_max_mm);
+    assert!(m.contact_peak_n <= m.f_max_n, "{} N", m.contact_peak_n);
+    assert!(m.tank_unpaid_j <= 1e-6, "{} J", m.tank_unpaid_j);
     assert_eq!(m.passivity_violations, 0);
     assert_eq!(m.qp_fallbacks, 0, "{:?}", m.first_fallback);
     assert_eq!(m.joint_limit_violations, 0);
@@ -89,16 +97,26 @@ fn a_drilling_cycle_keeps_the_clamping_force_in_its_bounds() {
     assert!(m.qp_interval_max_ms > m.qp_interval_min_ms + 1.0);
     // Held, the force follows its reference (the thrust included) within a tenth of it on
     // average.
-    let held: Vec<&[f64; 4]> = rows.rows.iter().filter(|r| r[1] == 3.0).collect();
-    let mean_error =
-        held.iter().map(|r| (r[2] - r[3]).abs()).sum::<f64>() / held.len().max(1) as f64;
-    println!("mean |clamp − reference| while held: {mean_error:.2} N");
-    assert!(mean_error < 0.1 * s.clamp.force, "{mean_error} N");
+    let held: Vec<&[f64; 6]> = rows.rows.iter().filter(|r| r[1] == 3.0).collect();
+    let mean = |f: &dyn Fn(&[f64; 6]) -> f64| {
+        held.iter().map(|r| f(r).abs()).sum::<f64>() / held.len().max(1) as f64
+    };
+    let tracking = mean(&|r| r[2] - r[3]);
+    // The plate presses on the tool with the force the QP solved, less the thrust it does
+    // not know (the simulator and the controller agree on the contact).
+    let agreement = mean(&|r| r[2] + r[5] - r[4]);
+    println!(
+        "while held: mean |clamp − reference| {tracking:.2} N, mean |clamp + thrust − QP's force| {agreement:.2} N"
+    );
+    assert!(tracking < 0.1 * s.clamp.force, "{tracking} N");
+    assert!(agreement < 0.1 * s.clamp.force, "{agreement} N");
 }
 
 #[test]
 fn the_fixed_base_qp_torques_satisfy_the_arm_dynamics_in_contact() {
-    // Eq 6.1: M q̈ + C q̇ + g = τ + J_cᵀ F, checked with RNEA on the QP's q̈, τ and F.
+    // Eq 6.1: M q̈ + C q̇ + g = τ + J_cᵀ F, checked with RNEA on the QP's q̈, τ and F: on a
+    // fixed base every row is actuated, so this checks the QP's model terms (CRBA, the
+    // nonlinear effects, the contact Jacobian) and its torque recovery against RNEA.
     let (s, dir) = scenario();
     let arm = EquippedArm::new(&s, &dir).unwrap();
     let model = arm.model.clone();
@@ -109,7 +127,16 @@ fn the_fixed_base_qp_torques_satisfy_the_arm_dynamics_in_contact() {
     let mut checked = 0;
     for k in 1..=30 {
         let t = k as f64 * 0.004;
-        let reason = c.tick(t, 0.004, arm.q0.as_slice(), v.as_slice(), 20.0, 40.0, 0.0);
+        let reason = c.tick(
+            t,
+            0.004,
+            0.004,
+            arm.q0.as_slice(),
+            v.as_slice(),
+            20.0,
+            40.0,
+            0.0,
+        );
         assert!(reason.is_none(), "{reason:?}");
         let mut data = Data::new(&model);
         let full = rnea(
@@ -136,31 +163,29 @@ fn the_fixed_base_qp_torques_satisfy_the_arm_dynamics_in_contact() {
 }
 
 #[test]
-fn the_local_loop_keeps_a_slow_qp_from_sliding() {
-    // Seed 000 L6960–L6990: a best-effort high-level loop under a faster local regulation.
-    // A 50 Hz QP (±8 ms) over the 500 Hz PD+ drills as the 250 Hz one; the same QP with its
-    // torques held between updates (the local loop at the QP's rate) lets the tool slide
-    // where it touches, past the tenth of a millimetre the 500 Hz loop keeps to (the whole
-    // cycle of the scenario: how far depends on the station).
+fn a_slow_jittery_high_level_loop_still_holds_the_bounds() {
+    // Seed 000 L6960–L6990: the high-level loop is best effort. At 50 Hz with ±8 ms of
+    // jitter over the 500 Hz local loop, the whole cycle keeps every bound of the verdict.
     let (mut s, dir) = scenario();
     s.loops.qp_rate_hz = 50.0;
     s.loops.jitter = 0.008;
-    let with_local = DrillingRun::new(&s, &dir)
-        .unwrap()
-        .run(&mut [], None)
-        .unwrap();
-    s.loops.local_rate_hz = 50.0;
-    let held = DrillingRun::new(&s, &dir)
+    let m = DrillingRun::new(&s, &dir)
         .unwrap()
         .run(&mut [], None)
         .unwrap();
     println!(
-        "touch slide: {:.3} mm with the local loop, {:.3} mm without; {} / {}",
-        with_local.touch_slide_max_mm, held.touch_slide_max_mm, with_local.verdict, held.verdict
+        "50 Hz ± 8 ms: {}; clamp {:.1}–{:.1} N, slide {:.3} mm, updates every {:.1} ms ({:.0}–{:.0})",
+        m.verdict,
+        m.clamp_min_n,
+        m.clamp_max_n,
+        m.slide_max_mm,
+        m.qp_interval_mean_ms,
+        m.qp_interval_min_ms,
+        m.qp_interval_max_ms
     );
-    assert_eq!(with_local.verdict, "ok");
-    assert!(with_local.touch_slide_max_mm < 0.1);
-    assert!(held.touch_slide_max_mm > 0.1);
+    assert_eq!(m.verdict, "ok");
+    assert_eq!(m.stations_done, m.stations);
+    assert!((m.qp_interval_mean_ms - 20.0).abs() < 0.5);
 }
 
 #[test]
@@ -198,6 +223,9 @@ fn bad_scenarios_name_the_key() {
     assert!(with("jitter = 0.002", "jitter = 0.01").contains("loops.jitter"));
     assert!(with("thrust = 20.0", "thrust = -1.0").contains("cycle.thrust"));
     assert!(with("[cycle]", "[cycle]\nspeed = 2.0").contains("speed"));
+    assert!(with("thrust = 20.0", "thrust = 20.0\nthrust_rise = 5.0").contains("cycle.thrust_rise"));
+    assert!(with("holes = 10", "holes = 100000").contains("cycle.holes"));
+    assert!(with("[loops]", "[sim]\nstep = 0.01\n\n[loops]").contains("sim.step"));
     let build = |edit: &dyn Fn(&mut DrillingScenario)| {
         let mut t = s.clone();
         edit(&mut t);
@@ -207,8 +235,8 @@ fn bad_scenarios_name_the_key() {
         }
     };
     assert!(build(&|t| t.arm.tool_frame = "hand".into()).contains("arm.tool_frame"));
-    assert!(build(&|t| t.arm.q0_deg.pop().map(|_| ()).unwrap()).contains("arm.q0_deg"));
-    assert!(build(&|t| t.arm.q0_deg[2] = 400.0).contains("elbow_joint"));
+    assert!(build(&|t| t.arm.q0.pop().map(|_| ()).unwrap()).contains("arm.q0"));
+    assert!(build(&|t| t.arm.q0[2] = 400.0).contains("elbow_joint"));
     assert!(build(&|t| t.arm.urdf = "missing.urdf".into()).contains("arm.urdf"));
     // The tool starting inside the plate.
     assert!(build(&|t| t.plate.centre[2] = 0.3).contains("inside the plate"));

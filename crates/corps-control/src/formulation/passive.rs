@@ -94,7 +94,10 @@ pub struct PassiveInverseDynamics {
     last_expected: Option<f64>,
     dq: DVector<f64>,
 
+    /// The interval to the next tick and since the last one (s): the control period unless
+    /// [`PassiveInverseDynamics::set_periods`] says otherwise.
     dt: f64,
+    last_dt: f64,
     /// Which left inverse of the stacked Jacobian defines Λ. Default: the weighted one.
     pub left_inverse: LeftInverse,
     /// Weight of the contacts' motion rows (and of priority-0 tasks) in `J†_W` (see
@@ -138,20 +141,26 @@ impl PassiveInverseDynamics {
             last_expected: None,
             dq: DVector::zeros(model.nv),
             dt,
+            last_dt: dt,
             left_inverse: LeftInverse::default(),
             contact_weight: CONTACT_WEIGHT,
             signals: PassiveSignals::default(),
         })
     }
 
-    /// Sets the control period (s) for the next tick: a loop whose ticks come at irregular
-    /// times (a best-effort high-level loop) gives the interval since the last tick. The
-    /// tank integrates its rate and expects the port's energy over this period; what the
-    /// robot really received over the true interval is booked at the next tick from Δq.
-    /// A period that is not finite and positive is ignored.
-    pub fn set_period(&mut self, dt: f64) {
-        if dt > 0.0 && dt.is_finite() {
-            self.dt = dt;
+    /// Sets the intervals around the next tick (s) for a loop whose ticks come at irregular
+    /// times (a best-effort high-level loop): `since_last` since the previous tick (Λ̇'s
+    /// finite difference and the spring energy the previous tick predicted) and `until_next`
+    /// to the following one (the tank's Euler step, the energy the port is expected to give
+    /// and the bounds of one step). What the robot really received over the true interval is
+    /// booked at the next tick from Δq. Intervals that are not finite and positive are
+    /// ignored.
+    pub fn set_periods(&mut self, since_last: f64, until_next: f64) {
+        if since_last > 0.0 && since_last.is_finite() {
+            self.last_dt = since_last;
+        }
+        if until_next > 0.0 && until_next.is_finite() {
+            self.dt = until_next;
         }
     }
 
@@ -268,7 +277,7 @@ impl PassiveInverseDynamics {
                 .wrapping_add(contact.frame as u64 + 1);
         }
         let v = &s.v;
-        let task = e.compute(&s.data.m, v, signature, self.dt)?;
+        let task = e.compute(&s.data.m, v, signature, self.last_dt)?;
         // Force tasks' power vᵀ J_Fᵀ T_Fᵀ F_F (their wanted wrench, contact frame) and the
         // other contacts' power vᵀ J_kᵀ T_kᵀ f_k (last solution).
         let (mut force_power, mut contact_power) = (0.0, 0.0);
@@ -307,7 +316,7 @@ impl PassiveInverseDynamics {
         let storage = task.storage;
         let base = self
             .prev
-            .map(|(scale, s, s_dot)| scale * (s + s_dot * self.dt));
+            .map(|(scale, s, s_dot)| scale * (s + s_dot * self.last_dt));
         if let Some(base) = base.filter(|_| storage > 0.0) {
             let cap = ((energy + base) / storage).max(0.0);
             if cap < valves.scale() {

@@ -200,14 +200,16 @@ impl ArmController {
         Ok(())
     }
 
-    /// One QP at time `t`, `dt` after the last, at the measured state (q, v), the clamp load
-    /// cell reading `load` (N) and the force reference `force_ref` (N) with its rate: the
-    /// joint torques into `tau`, or the safe command and its reason.
+    /// One QP at time `t`, `dt` after the last and `until_next` before the next, at the
+    /// measured state (q, v), the clamp load cell reading `load` (N) and the force reference
+    /// `force_ref` (N) with its rate: the joint torques into `tau`, or the safe command and
+    /// its reason.
     #[allow(clippy::too_many_arguments)]
     pub fn tick(
         &mut self,
         t: f64,
         dt: f64,
+        until_next: f64,
         q: &[f64],
         v: &[f64],
         load: f64,
@@ -241,7 +243,7 @@ impl ArmController {
         } else {
             self.force_desired = 0.0;
         }
-        self.passive.set_period(dt);
+        self.passive.set_periods(dt, until_next);
         let model = self.model.clone();
         let reason = self.passive.tick(
             &mut self.id,

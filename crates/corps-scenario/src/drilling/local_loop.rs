@@ -1,8 +1,9 @@
 //! The two loops of seed 000 L6960–L6990: the high-level QP updates at a nominal rate, best
 //! effort, each update `U(−jitter, jitter)` off its nominal time ([`UpdateClock`]); between
-//! updates a local PD+ regulation ([`LocalRegulation`]) runs at its own faster rate around
-//! the last update: `τ = τ* + K_p (q_ref ⊖ q) + K_d (v_ref − v)`, where `(q_ref, v_ref)`
-//! start at the state the QP saw and follow its accelerations q̈*.
+//! updates a local regulation ([`LocalRegulation`], the thesis's "PD+": a PD around the QP's
+//! trajectory with the QP's torques as feed-forward) runs at its own faster rate:
+//! `τ = τ* + K_p (q_ref ⊖ q) + K_d (v_ref − v)`, where `(q_ref, v_ref)` start at the state the
+//! QP saw and follow its accelerations q̈*.
 
 use corps_model::{difference_to, integrate_to, Model};
 use nalgebra::DVector;
@@ -10,44 +11,50 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 
 /// When the high-level QP updates: nominal period `period`, each update off by a uniform
-/// jitter, never closer than `min_gap` to the last.
+/// jitter, on the local loop's ticks (every `tick` seconds), never closer than one tick to
+/// the last.
 pub struct UpdateClock {
     period: f64,
     jitter: f64,
-    min_gap: f64,
-    nominal: f64,
+    tick: f64,
+    /// Updates so far: the next one's nominal time is `updates × period` (a product, not a
+    /// running sum, so that a long run's nominal times do not drift by rounding).
+    updates: u64,
     next: f64,
     last: Option<f64>,
 }
 
 impl UpdateClock {
-    pub fn new(period: f64, jitter: f64, min_gap: f64) -> Self {
+    pub fn new(period: f64, jitter: f64, tick: f64) -> Self {
         Self {
             period,
             jitter,
-            min_gap,
-            nominal: 0.0,
+            tick,
+            updates: 0,
             next: 0.0,
             last: None,
         }
     }
 
     /// Whether an update is due at time `t` (a local tick); if so, the interval since the
-    /// last update (the nominal period for the first) and the next update's time drawn.
-    pub fn due(&mut self, t: f64, rng: &mut ChaCha8Rng) -> Option<f64> {
-        if t + 1e-9 < self.next {
+    /// last update (the nominal period for the first) and the one to the next, drawn now
+    /// and rounded up to the local ticks.
+    pub fn due(&mut self, t: f64, rng: &mut ChaCha8Rng) -> Option<(f64, f64)> {
+        if t + 1e-6 * self.tick < self.next {
             return None;
         }
-        let interval = self.last.map_or(self.period, |last| t - last);
+        let since = self.last.map_or(self.period, |last| t - last);
         self.last = Some(t);
-        self.nominal += self.period;
+        self.updates += 1;
+        let nominal = self.updates as f64 * self.period;
         let off = if self.jitter > 0.0 {
             rng.gen_range(-self.jitter..=self.jitter)
         } else {
             0.0
         };
-        self.next = (self.nominal + off).max(t + self.min_gap);
-        Some(interval)
+        let on_grid = ((nominal + off) / self.tick - 1e-6).ceil() * self.tick;
+        self.next = on_grid.max(t + self.tick);
+        Some((since, self.next - t))
     }
 }
 
@@ -134,10 +141,22 @@ mod tests {
     fn updates_come_at_the_nominal_rate_within_the_jitter() {
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let mut clock = UpdateClock::new(0.004, 0.002, 0.002);
-        let mut times = Vec::new();
+        let mut times: Vec<f64> = Vec::new();
+        let mut announced: Option<f64> = None;
         for k in 0..50_000 {
             let t = k as f64 * 0.002;
-            if clock.due(t, &mut rng).is_some() {
+            if let Some((since, until)) = clock.due(t, &mut rng) {
+                if let Some(last) = times.last() {
+                    assert!((since - (t - last)).abs() < 1e-12);
+                }
+                // The update comes when the last one said it would.
+                if let Some(at) = announced {
+                    assert!((t - at).abs() < 1e-9, "{t} against {at}");
+                }
+                announced = Some(t + until);
+                // The next update lands on a local tick.
+                let ticks = until / 0.002;
+                assert!((ticks - ticks.round()).abs() < 1e-6 && ticks >= 1.0 - 1e-9);
                 times.push(t);
             }
         }
@@ -152,12 +171,17 @@ mod tests {
     }
 
     #[test]
-    fn without_jitter_every_second_local_tick() {
+    fn without_jitter_every_second_local_tick_for_an_hour() {
         let mut rng = ChaCha8Rng::seed_from_u64(3);
         let mut clock = UpdateClock::new(0.004, 0.0, 0.002);
-        let due: Vec<bool> = (0..8)
-            .map(|k| clock.due(k as f64 * 0.002, &mut rng).is_some())
-            .collect();
-        assert_eq!(due, [true, false, true, false, true, false, true, false]);
+        // Over an hour of 2 ms ticks: every second one, no drift.
+        for k in 0..1_800_000u64 {
+            let due = clock.due(k as f64 * 0.002, &mut rng);
+            assert_eq!(due.is_some(), k % 2 == 0, "tick {k}");
+            if let Some((since, until)) = due {
+                assert!((until - 0.004).abs() < 1e-9, "tick {k}: {until}");
+                assert!(k == 0 || (since - 0.004).abs() < 1e-9, "tick {k}: {since}");
+            }
+        }
     }
 }

@@ -2,6 +2,9 @@
 
 use serde::Serialize;
 
+/// Energy the tank may leave unpaid over a run (J) before the verdict fails: rounding.
+pub const UNPAID_TOLERANCE: f64 = 1e-6;
+
 /// The figures of a drilling run (`metrics.json`).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct DrillingMetrics {
@@ -23,17 +26,14 @@ pub struct DrillingMetrics {
     pub clamped_ticks: usize,
     pub f_min_n: f64,
     pub f_max_n: f64,
-    /// Largest tangential-to-normal force ratio while held, and the bound μ_s.
+    /// Largest ratio of a tangential force component (along the tip's x or y axis, the axes
+    /// of the QP's slip pyramid) to the normal force while held, and the bound μ_s.
     pub slip_ratio_max: f64,
     pub slip_ratio_bound: f64,
-    /// How far the tip slid on the plate while the force was held, from where it was when
-    /// the hold began (mm).
-    pub slip_max_mm: f64,
-    /// From the touch to the hold: the largest normal force (the impact and the force's
-    /// rise, N) and how far the tip slid from where it touched (mm).
-    pub touch_peak_n: f64,
-    pub touch_slide_max_mm: f64,
-    /// How far the tool may slide, from its touch to its release (mm).
+    /// From the touch to the release: the largest normal force (N), how far the tip slid on
+    /// the plate from where it touched (mm), and how far it may slide (mm).
+    pub contact_peak_n: f64,
+    pub slide_max_mm: f64,
     pub slide_limit_mm: f64,
     /// Tip at the touch against the station's point, on the plate (mm).
     pub hole_position_error_max_mm: f64,
@@ -50,6 +50,11 @@ pub struct DrillingMetrics {
     pub passivity_violations: usize,
     pub tank_min_j: f64,
     pub tank_final_j: f64,
+    /// Energy the QP's torques gave the arm over the intervals between updates (from Δq),
+    /// and the part of it the tank could not pay (J): what the arm received beyond the
+    /// storage's loss.
+    pub qp_energy_to_arm_j: f64,
+    pub tank_unpaid_j: f64,
     /// Energy the local PD+ gave the arm over the run, ∫ q̇ᵀ τ_PD dt (J): the local loop's
     /// share, outside the tank's books.
     pub local_loop_energy_j: f64,
@@ -64,7 +69,8 @@ pub struct DrillingMetrics {
 
 impl DrillingMetrics {
     /// The verdict: every station done, every held tick inside the clamping bounds and the
-    /// slip ratio, the force never above F_max from the touch on, the tool not sliding, the tank's power row held, no joint past its limits.
+    /// slip ratio, the force never above F_max from the touch to the release, the tool not
+    /// sliding, the tank paying all the energy the QP's torques gave the arm, the tank's power row held, no joint past its limits.
     pub fn judge(&mut self) {
         let mut failed = Vec::new();
         if self.stations_done < self.stations {
@@ -83,17 +89,16 @@ impl DrillingMetrics {
                 self.clamp_max_n
             ));
         }
-        if self.touch_peak_n > self.f_max_n {
+        if self.contact_peak_n > self.f_max_n {
             failed.push(format!(
-                "the touch pressed {:.1} N, above F_max = {} N",
-                self.touch_peak_n, self.f_max_n
+                "the tool pressed {:.1} N, above F_max = {} N",
+                self.contact_peak_n, self.f_max_n
             ));
         }
-        let slide = self.slip_max_mm.max(self.touch_slide_max_mm);
-        if slide > self.slide_limit_mm {
+        if self.slide_max_mm > self.slide_limit_mm {
             failed.push(format!(
-                "the tool slid {slide:.2} mm on the plate (limit {} mm)",
-                self.slide_limit_mm
+                "the tool slid {:.2} mm on the plate (limit {} mm)",
+                self.slide_max_mm, self.slide_limit_mm
             ));
         }
         if self.slip_ratio_max > self.slip_ratio_bound {

@@ -30,7 +30,7 @@ use corps_control::tasks::Se3Reference;
 use corps_learn::normal::Normal;
 use corps_model::spatial::rotation::{exp3, log3, rpy_to_matrix};
 use corps_model::spatial::{Motion, Se3};
-use corps_model::{CollisionGeometry, Frame, FrameKind, Model, RootJoint, Shape};
+use corps_model::{CollisionGeometry, Frame, FrameKind, JointKind, Model, RootJoint, Shape};
 use corps_sim::{
     Command, ContactParams, Integrator, Push, ServoGains, SimSettings, Simulator, Surface, Terrain,
 };
@@ -67,6 +67,9 @@ pub struct DrillingRun {
     stations: Vec<Station>,
     /// The plate's top face: origin at its centre, z its outward normal.
     plate: Se3,
+    /// The tip's orientation at every station: z along the plate's normal, turned about it
+    /// as the tool starts (a drill is symmetric about its axis).
+    tool_rotation: Matrix3<f64>,
     tool_joint: usize,
     tip_in_joint: Se3,
     start_tip: Se3,
@@ -84,10 +87,8 @@ struct CycleState {
     from: Se3,
     to: Se3,
     duration: f64,
-    /// Where the tip touched the plate, and where it was when the force began to be held
-    /// (true, world).
+    /// Where the tip touched the plate (true, world).
     touch: Option<Vector3<f64>>,
-    held_at: Option<Vector3<f64>>,
     /// When the current hole's thrust started.
     thrust_from: Option<f64>,
 }
@@ -118,7 +119,7 @@ impl DrillingRun {
         let local_dt = 1.0 / s.loops.local_rate_hz;
         let settings = SimSettings {
             control_dt: local_dt,
-            substeps: s.sim.substeps,
+            substeps: (local_dt / s.sim.step - 1e-9).ceil().max(1.0) as usize,
             integrator: Integrator::ImplicitEuler,
             contact: ContactParams {
                 normal_stiffness: s.sim.normal_stiffness,
@@ -139,8 +140,15 @@ impl DrillingRun {
         let sim = Simulator::new(model.clone(), terrain, settings, q0.as_slice(), idle)?;
         let start_tip = tip_placement(&model, &sim, tool_joint, &tip_in_joint);
         if slab_contains(&sim, &start_tip.translation) {
-            bail!("arm.q0_deg: the tool's tip starts inside the plate");
+            bail!("arm.q0: the tool's tip starts inside the plate");
         }
+        let x = plate.rotation.transpose() * start_tip.rotation.column(0);
+        let yaw = if x.x.hypot(x.y) > 1e-6 {
+            x.y.atan2(x.x)
+        } else {
+            0.0
+        };
+        let tool_rotation = plate.rotation * rpy_to_matrix(0.0, 0.0, yaw);
         let controller = ArmController::new(model.clone(), tip, &q0, s)?;
         let gains = ServoGains::from_bandwidth(&model, q0.as_slice(), s.loops.local_bandwidth_hz)?;
         let limit = model
@@ -166,6 +174,7 @@ impl DrillingRun {
             noise: Normal::new(ChaCha8Rng::seed_from_u64(s.loops.seed.wrapping_add(1))),
             stations,
             plate,
+            tool_rotation,
             tool_joint,
             tip_in_joint,
             start_tip,
@@ -194,20 +203,17 @@ impl DrillingRun {
         &self.stations
     }
 
-    /// The tool's approach point above `station` (tip z along the plate's normal).
+    /// The tool's approach point above `station`.
     fn approach(&self, station: usize) -> Se3 {
-        let [x, y] = self.stations[station].at;
-        self.plate
-            * Se3::new(
-                Matrix3::identity(),
-                Vector3::new(x, y, self.s.cycle.standoff),
-            )
+        self.above(station, self.s.cycle.standoff)
     }
 
-    /// The point `height` above the surface at `station` (below it if negative).
+    /// The tip `height` above the surface at `station` (below it if negative), in the tool's
+    /// orientation.
     fn above(&self, station: usize, height: f64) -> Se3 {
         let [x, y] = self.stations[station].at;
-        self.plate * Se3::new(Matrix3::identity(), Vector3::new(x, y, height))
+        let at = self.plate.act_point(&Vector3::new(x, y, height));
+        Se3::new(self.tool_rotation, at)
     }
 
     /// Runs the cycle, each tick's row to `sinks`, until a second after the cycle ends or
@@ -243,7 +249,6 @@ impl DrillingRun {
             to: self.approach(0),
             duration: self.s.cycle.move_time,
             touch: None,
-            held_at: None,
             thrust_from: None,
         };
         let mut q_m = DVector::zeros(nq);
@@ -295,11 +300,12 @@ impl DrillingRun {
 
             // The high-level update, when due.
             let update = self.clock.due(t, &mut self.rng);
-            if let Some(dt) = update {
+            if let Some((dt, until_next)) = update {
                 qp_interval = dt;
                 let reason = self.controller.tick(
                     t,
                     dt,
+                    until_next,
                     q_m.as_slice(),
                     v_m.as_slice(),
                     load,
@@ -316,6 +322,8 @@ impl DrillingRun {
                 if sig.h_dot.is_finite() && sig.h_dot > sig.passivity_bound + 1e-6 {
                     m.passivity_violations += 1;
                 }
+                m.tank_unpaid_j += sig.unpaid;
+                m.qp_energy_to_arm_j -= sig.port_energy;
                 m.tank_min_j = m.tank_min_j.min(sig.tank_energy);
                 match reason {
                     Some(r) => {
@@ -353,12 +361,13 @@ impl DrillingRun {
                 .sum::<f64>()
                 * self.local_dt;
 
-            // Figures of this tick.
-            if cyc.phase == Phase::Clamp {
-                m.touch_peak_n = m.touch_peak_n.max(clamp);
+            // Figures of this tick: the tool on the plate from its touch to its release.
+            let on_plate = matches!(cyc.phase, Phase::Clamp | Phase::Hold | Phase::Release);
+            if on_plate {
+                m.contact_peak_n = m.contact_peak_n.max(clamp);
                 if let Some(at) = cyc.touch {
                     let slide = along_plate(&normal, tip.translation - at);
-                    m.touch_slide_max_mm = m.touch_slide_max_mm.max(slide * 1e3);
+                    m.slide_max_mm = m.slide_max_mm.max(slide * 1e3);
                 }
             }
             let held = cyc.phase.clamped();
@@ -370,12 +379,12 @@ impl DrillingRun {
                     m.clamp_out_of_bounds_ticks += 1;
                 }
                 if clamp > RATIO_MIN_NORMAL {
-                    m.slip_ratio_max = m.slip_ratio_max.max(tangential / clamp);
+                    // Along the tip's x and y axes, the axes of the QP's slip pyramid.
+                    let f = wrench.linear;
+                    let (x, y) = (tip.rotation.column(0), tip.rotation.column(1));
+                    let along = f.dot(&x).abs().max(f.dot(&y).abs());
+                    m.slip_ratio_max = m.slip_ratio_max.max(along / clamp);
                 }
-                let at = *cyc.held_at.get_or_insert(tip.translation);
-                m.slip_max_mm = m
-                    .slip_max_mm
-                    .max(along_plate(&normal, tip.translation - at) * 1e3);
                 let cos = tip.rotation.column(2).dot(&normal).clamp(-1.0, 1.0);
                 m.normality_error_max_deg = m.normality_error_max_deg.max(cos.acos().to_degrees());
             }
@@ -469,7 +478,7 @@ impl DrillingRun {
                 self.controller.make_contact(t, placement);
                 c.phase = Phase::Clamp;
                 c.since = t;
-                c.from = Se3::new(self.plate.rotation, tip.translation);
+                c.from = Se3::new(self.tool_rotation, tip.translation);
                 c.touch = Some(tip.translation);
                 let [x, y] = self.stations[c.station].at;
                 let hole = self.plate.act_point(&Vector3::new(x, y, 0.0));
@@ -491,7 +500,10 @@ impl DrillingRun {
                 self.controller.set_min_force(self.s.clamp.f_min);
                 c.phase = Phase::Hold;
                 c.since = t;
-                if self.stations[c.station].drill && cy.thrust > 0.0 {
+                if self.stations[c.station].drill
+                    && cy.thrust > 0.0
+                    && self.stations[c.station].hold > 0.0
+                {
                     self.start_thrust(t, c)?;
                 }
             }
@@ -502,7 +514,7 @@ impl DrillingRun {
                 c.thrust_from = None;
             }
             Phase::Release if elapsed >= cy.ramp_time => {
-                let here = at_rest(Se3::new(self.plate.rotation, tip.translation));
+                let here = at_rest(Se3::new(self.tool_rotation, tip.translation));
                 self.controller.release(t, &here)?;
                 c.phase = Phase::Retreat;
                 c.since = t;
@@ -516,7 +528,6 @@ impl DrillingRun {
             }
             Phase::Retreat if elapsed >= c.duration => {
                 c.touch = None;
-                c.held_at = None;
                 c.since = t;
                 if c.station + 1 < self.stations.len() {
                     c.station += 1;
@@ -624,7 +635,7 @@ pub struct EquippedArm {
     /// The tip frame and the joint that carries the tool.
     pub tip: usize,
     pub tool_joint: usize,
-    /// The starting configuration (`[arm] q0_deg`).
+    /// The starting configuration (`[arm] q0`).
     pub q0: DVector<f64>,
 }
 
@@ -650,7 +661,7 @@ impl EquippedArm {
         if model.frame_id(TIP_FRAME).is_ok() {
             bail!("arm.urdf: the model already has a frame '{TIP_FRAME}'");
         }
-        let q0 = start_configuration(&model, &s.arm.q0_deg)?;
+        let q0 = start_configuration(&model, &s.arm.q0)?;
         let l = s.tool.length;
         let flange_in_joint = model.frames[flange].placement;
         let flip = rpy_to_matrix(std::f64::consts::PI, 0.0, 0.0);
@@ -700,37 +711,44 @@ fn slab_contains(sim: &Simulator, p: &Vector3<f64>) -> bool {
         .any(|s| s.penetration(p).is_some())
 }
 
-/// The starting configuration: `q0_deg` on the one-dof joints in order (none: all zero).
-fn start_configuration(model: &Model, q0_deg: &[f64]) -> Result<DVector<f64>> {
+/// The starting configuration: `q0` on the one-dof joints in order (none: all zero), in
+/// degrees for a revolute joint and metres for a prismatic one.
+fn start_configuration(model: &Model, q0: &[f64]) -> Result<DVector<f64>> {
     let mut q = corps_model::neutral(model);
     let joints: Vec<_> = model.joints.iter().filter(|j| j.nv() == 1).collect();
-    if !q0_deg.is_empty() && q0_deg.len() != joints.len() {
+    if !q0.is_empty() && q0.len() != joints.len() {
         bail!(
-            "arm.q0_deg: {} angles for the arm's {} joints",
-            q0_deg.len(),
+            "arm.q0: {} positions for the arm's {} joints",
+            q0.len(),
             joints.len()
         );
     }
-    for (j, deg) in joints.iter().zip(q0_deg) {
-        let a = deg.to_radians();
-        if j.nq() == 2 {
-            q[j.idx_q] = a.cos();
-            q[j.idx_q + 1] = a.sin();
+    for (j, x) in joints.iter().zip(q0) {
+        let prismatic = matches!(j.kind, JointKind::Prismatic { .. });
+        let (value, unit) = if prismatic {
+            (*x, "m")
         } else {
-            let (lo, hi) = (
-                model.lower_position_limit[j.idx_q],
-                model.upper_position_limit[j.idx_q],
-            );
-            if a < lo || a > hi {
-                bail!(
-                    "arm.q0_deg: {deg}° for joint '{}' is outside its limits [{:.1}°, {:.1}°]",
-                    j.name,
-                    lo.to_degrees(),
-                    hi.to_degrees()
-                );
-            }
-            q[j.idx_q] = a;
+            (x.to_radians(), "°")
+        };
+        let shown = |v: f64| if prismatic { v } else { v.to_degrees() };
+        if j.nq() == 2 {
+            q[j.idx_q] = value.cos();
+            q[j.idx_q + 1] = value.sin();
+            continue;
         }
+        let (lo, hi) = (
+            model.lower_position_limit[j.idx_q],
+            model.upper_position_limit[j.idx_q],
+        );
+        if lo < hi && (value < lo || value > hi) {
+            bail!(
+                "arm.q0: {x} {unit} for joint '{}' is outside its limits [{:.3}, {:.3}] {unit}",
+                j.name,
+                shown(lo),
+                shown(hi)
+            );
+        }
+        q[j.idx_q] = value;
     }
     Ok(q)
 }

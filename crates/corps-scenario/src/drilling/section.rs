@@ -5,6 +5,9 @@
 
 use serde::Deserialize;
 
+/// The most holes a cycle may drill between R1 and R2.
+pub const MAX_HOLES: usize = 10_000;
+
 /// A drilling scenario.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -42,9 +45,10 @@ pub struct ArmSection {
     pub urdf: String,
     /// The flange frame: the tool sticks out along its +z.
     pub tool_frame: String,
-    /// The starting joint angles (degrees, one per joint); default all zero.
+    /// The starting joint positions, one per joint in the URDF's order: degrees for a
+    /// revolute joint, metres for a prismatic one; default all zero.
     #[serde(default)]
-    pub q0_deg: Vec<f64>,
+    pub q0: Vec<f64>,
 }
 
 /// `[tool]`: a cylinder on the flange (massless: its collision shape only).
@@ -296,11 +300,12 @@ impl Default for SensorSection {
     }
 }
 
-/// `[sim]`: physics steps per local period and the contact's stiffness per area.
+/// `[sim]`: the physics step (s; the local period is split into whole steps of at most
+/// this) and the contact's stiffness per area.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
 pub struct SimSection {
-    pub substeps: usize,
+    pub step: f64,
     pub normal_stiffness: f64,
     pub tangential_stiffness: f64,
 }
@@ -308,7 +313,7 @@ pub struct SimSection {
 impl Default for SimSection {
     fn default() -> Self {
         Self {
-            substeps: 2,
+            step: 0.001,
             normal_stiffness: 4e8,
             tangential_stiffness: 4e8,
         }
@@ -342,8 +347,8 @@ impl DrillingScenario {
         if let Some(d) = self.duration {
             positive("duration", d)?;
         }
-        if self.arm.q0_deg.iter().any(|x| !x.is_finite()) {
-            return Err("arm.q0_deg: non-finite angle".into());
+        if self.arm.q0.iter().any(|x| !x.is_finite()) {
+            return Err("arm.q0: a non-finite position".into());
         }
         positive("tool.length", self.tool.length)?;
         positive("tool.radius", self.tool.radius)?;
@@ -396,6 +401,15 @@ impl DrillingScenario {
         positive("cycle.touch_force", c.touch_force)?;
         non_negative("cycle.thrust", c.thrust)?;
         positive("cycle.thrust_rise", c.thrust_rise)?;
+        if c.thrust > 0.0 && c.drill_time > 0.0 && c.thrust_rise > c.drill_time {
+            return Err(format!(
+                "cycle.thrust_rise: {} s is longer than cycle.drill_time ({} s)",
+                c.thrust_rise, c.drill_time
+            ));
+        }
+        if c.holes > MAX_HOLES {
+            return Err(format!("cycle.holes: {} is more than {MAX_HOLES}", c.holes));
+        }
         let k = &self.clamp;
         non_negative("clamp.f_min", k.f_min)?;
         positive("clamp.f_max", k.f_max)?;
@@ -450,10 +464,18 @@ impl DrillingScenario {
         non_negative("sensors.encoder", s.encoder)?;
         non_negative("sensors.velocity", s.velocity)?;
         non_negative("sensors.load_cell", s.load_cell)?;
-        if self.sim.substeps == 0 || self.sim.substeps > 100 {
+        positive("sim.step", self.sim.step)?;
+        if self.sim.step > 1.0 / l.local_rate_hz {
             return Err(format!(
-                "sim.substeps: {} is not in 1..=100",
-                self.sim.substeps
+                "sim.step: {} s is longer than the local loop's period ({} s)",
+                self.sim.step,
+                1.0 / l.local_rate_hz
+            ));
+        }
+        if self.sim.step < 1e-3 / l.local_rate_hz {
+            return Err(format!(
+                "sim.step: {} s is more than a thousand steps per local period",
+                self.sim.step
             ));
         }
         positive("sim.normal_stiffness", self.sim.normal_stiffness)?;

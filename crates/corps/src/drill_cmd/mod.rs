@@ -1,8 +1,8 @@
 //! `corps drill`: a fixed-base arm drills a plate under the passive QP (seed 000 §3.19, the
 //! cycle of Table 6.2; `corps_scenario::drilling`). Writes `log.csv` (streamed),
-//! `metrics.json` and `drilling.png` (the clamping force against its bounds, the tank, the
-//! loops' updates) into the output directory and prints the metrics; exits non-zero when
-//! the verdict is not "ok".
+//! `metrics.json` and `drilling.png` (the clamping force against its bounds with the thrust,
+//! the tank's energy, its valves β and γ) into the output directory and prints the metrics;
+//! exits non-zero when the verdict is not "ok".
 
 mod plots;
 
@@ -153,7 +153,7 @@ pub fn drill(args: &DrillArgs) -> Result<DrillReport> {
 fn summary(m: &DrillingMetrics, name: &str, files: &[PathBuf]) -> String {
     let files: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
     format!(
-        "{name}: {verdict}\n  stations {done}/{n} ({holes} holes drilled), cycle {cycle:.1} s of {dur:.1} s simulated, {rtf:.1}× real time\n  clamping force while held: {cmin:.1}–{cmax:.1} N (bounds {fmin}–{fmax} N, {oob} of {held} ticks outside)\n  tangential/normal ≤ {ratio:.3} (bound {rb}), slide ≤ {slip:.3} mm, normality ≤ {norm:.3}°, hole position ≤ {hole:.2} mm\n  from touch to hold: force ≤ {tpeak:.1} N, slide ≤ {tslide:.2} mm\n  QP updates {upd} every {imean:.2} ms ({imin:.1}–{imax:.1} ms), fallbacks {fb}, Ḣ > −q̇ᵀτ on {pv}\n  tank {tmin:.2} J at least, {tfin:.2} J at the end; the local PD+ gave the arm {local:.3} J\n  joints past their limits on {lim} ticks; largest |τ|/τ_max {tr:.2}\nwrote {files}\n",
+        "{name}: {verdict}\n  stations {done}/{n} ({holes} holes drilled), cycle {cycle:.1} s of {dur:.1} s simulated, {rtf:.1}× real time\n  clamping force while held: {cmin:.1}–{cmax:.1} N (bounds {fmin}–{fmax} N, {oob} of {held} ticks outside)\n  tangential/normal ≤ {ratio:.3} (bound {rb}), normality ≤ {norm:.3}°, hole position ≤ {hole:.2} mm\n  from touch to release: force ≤ {peak:.1} N, slide ≤ {slide:.3} mm (limit {sl} mm)\n  QP updates {upd} every {imean:.2} ms ({imin:.1}–{imax:.1} ms), fallbacks {fb}, Ḣ > −q̇ᵀτ on {pv}\n  tank {tmin:.2} J at least, {tfin:.2} J at the end; the QP's torques gave the arm {qpe:.3} J ({unpaid:.2e} J unpaid), the local loop {local:.3} J\n  joints past their limits on {lim} ticks; largest |τ|/τ_max {tr:.2}\nwrote {files}\n",
         verdict = m.verdict,
         done = m.stations_done,
         n = m.stations,
@@ -169,11 +169,13 @@ fn summary(m: &DrillingMetrics, name: &str, files: &[PathBuf]) -> String {
         held = m.clamped_ticks,
         ratio = m.slip_ratio_max,
         rb = m.slip_ratio_bound,
-        slip = m.slip_max_mm,
         norm = m.normality_error_max_deg,
         hole = m.hole_position_error_max_mm,
-        tpeak = m.touch_peak_n,
-        tslide = m.touch_slide_max_mm,
+        peak = m.contact_peak_n,
+        slide = m.slide_max_mm,
+        sl = m.slide_limit_mm,
+        qpe = m.qp_energy_to_arm_j,
+        unpaid = m.tank_unpaid_j,
         upd = m.qp_updates,
         imean = m.qp_interval_mean_ms,
         imin = m.qp_interval_min_ms,
