@@ -152,9 +152,11 @@ impl PassiveInverseDynamics {
     /// times (a best-effort high-level loop): `since_last` since the previous tick (Λ̇'s
     /// finite difference and the spring energy the previous tick predicted) and `until_next`
     /// to the following one (the tank's Euler step, the energy the port is expected to give
-    /// and the bounds of one step). What the robot really received over the true interval is
-    /// booked at the next tick from Δq. Intervals that are not finite and positive are
-    /// ignored.
+    /// and the bounds of one step). `H` changes by exactly `Ḣ dt` per tick when each tick's
+    /// `since_last` is the previous tick's `until_next`; a real best-effort loop knows the
+    /// next interval only approximately, and what the robot really received over the true
+    /// interval is booked at the next tick from Δq either way. Intervals that are not finite
+    /// and positive are ignored.
     pub fn set_periods(&mut self, since_last: f64, until_next: f64) {
         if since_last > 0.0 && since_last.is_finite() {
             self.last_dt = since_last;

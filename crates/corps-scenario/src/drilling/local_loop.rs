@@ -38,7 +38,8 @@ impl UpdateClock {
 
     /// Whether an update is due at time `t` (a local tick); if so, the interval since the
     /// last update (the nominal period for the first) and the one to the next, drawn now
-    /// and rounded up to the local ticks.
+    /// and rounded to the nearest local tick (at least one tick ahead). A jitter smaller than
+    /// half a tick is rounded away.
     pub fn due(&mut self, t: f64, rng: &mut ChaCha8Rng) -> Option<(f64, f64)> {
         if t + 1e-6 * self.tick < self.next {
             return None;
@@ -52,7 +53,7 @@ impl UpdateClock {
         } else {
             0.0
         };
-        let on_grid = ((nominal + off) / self.tick - 1e-6).ceil() * self.tick;
+        let on_grid = ((nominal + off) / self.tick).round() * self.tick;
         self.next = on_grid.max(t + self.tick);
         Some((since, self.next - t))
     }

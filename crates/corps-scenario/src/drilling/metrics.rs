@@ -110,6 +110,12 @@ impl DrillingMetrics {
         if self.passivity_violations > 0 {
             failed.push(format!("Ḣ > −q̇ᵀτ on {} updates", self.passivity_violations));
         }
+        if self.tank_unpaid_j > UNPAID_TOLERANCE {
+            failed.push(format!(
+                "the QP's torques gave the arm {:.4} J the tank could not pay",
+                self.tank_unpaid_j
+            ));
+        }
         if self.joint_limit_violations > 0 {
             failed.push(format!(
                 "joints past their limits on {} ticks",

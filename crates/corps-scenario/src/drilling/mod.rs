@@ -6,15 +6,17 @@
 //! tick (`[loops] local_rate_hz`) the sensors are read with their noise (encoders, joint
 //! velocities, the clamp load cell: the plate's normal force on the tool); when the
 //! high-level update is due (`qp_rate_hz`, best effort with jitter: [`local_loop`]) the QP
-//! runs on those readings; the local PD+ then commands the torques, and the simulator
-//! steps. The cycle ([`cycle`]) drives the end-effector reference, makes and releases the
+//! runs on those readings; the local loop (a PD around the QP's trajectory with its torques
+//! as feed-forward) then commands the torques, and the simulator steps at `[sim] step`. The cycle ([`cycle`]) drives the end-effector reference, makes and releases the
 //! tool's contact and schedules the clamping force and the drill's thrust (an external
 //! force on the tip the controller does not model).
 //!
 //! The verdict ([`DrillingMetrics::judge`]): every station done; while the clamping force is
-//! held, the true normal force inside `[F_min, F_max]` and the tangential force within the
-//! slip ratio on every tick; the power row `Ḣ ≤ −q̇ᵀτ` on every update; no joint past its
-//! position or velocity limit; no QP fallback.
+//! held, the true normal force inside `[F_min, F_max]` and each tangential component within
+//! the slip ratio on every tick; from the touch to the release, the force never above
+//! `F_max` and the tool sliding less than `slide_limit_mm`; the power row `Ḣ ≤ −q̇ᵀτ` in every
+//! update's solution and the tank paying all the energy the QP's torques gave the arm; no
+//! joint past its position or velocity limit; no QP fallback.
 
 pub mod controller;
 pub mod cycle;
@@ -378,12 +380,13 @@ impl DrillingRun {
                 if clamp < self.s.clamp.f_min || clamp > self.s.clamp.f_max {
                     m.clamp_out_of_bounds_ticks += 1;
                 }
-                if clamp > RATIO_MIN_NORMAL {
-                    // Along the tip's x and y axes, the axes of the QP's slip pyramid.
-                    let f = wrench.linear;
-                    let (x, y) = (tip.rotation.column(0), tip.rotation.column(1));
-                    let along = f.dot(&x).abs().max(f.dot(&y).abs());
-                    m.slip_ratio_max = m.slip_ratio_max.max(along / clamp);
+                // In the tip's frame, the frame of the QP's slip pyramid.
+                let f = wrench.linear;
+                let r = tip.rotation;
+                let normal_in_tip = f.dot(&r.column(2));
+                if normal_in_tip > RATIO_MIN_NORMAL {
+                    let along = f.dot(&r.column(0)).abs().max(f.dot(&r.column(1)).abs());
+                    m.slip_ratio_max = m.slip_ratio_max.max(along / normal_in_tip);
                 }
                 let cos = tip.rotation.column(2).dot(&normal).clamp(-1.0, 1.0);
                 m.normality_error_max_deg = m.normality_error_max_deg.max(cos.acos().to_degrees());
