@@ -30,6 +30,7 @@ use crate::ScenarioError;
 use controller::{at_rest, ArmController};
 use corps_control::tasks::Se3Reference;
 use corps_learn::normal::Normal;
+use corps_model::min_jerk::min_jerk_between;
 use corps_model::spatial::rotation::{exp3, log3, rpy_to_matrix};
 use corps_model::spatial::{Motion, Se3};
 use corps_model::{CollisionGeometry, Frame, FrameKind, JointKind, Model, RootJoint, Shape};
@@ -140,7 +141,7 @@ impl DrillingRun {
             surfaces: vec![slab],
         };
         let sim = Simulator::new(model.clone(), terrain, settings, q0.as_slice(), idle)?;
-        let start_tip = tip_placement(&model, &sim, tool_joint, &tip_in_joint);
+        let start_tip = tip_placement(&sim, tool_joint, &tip_in_joint);
         if slab_contains(&sim, &start_tip.translation) {
             bail!("arm.q0: the tool's tip starts inside the plate");
         }
@@ -205,6 +206,11 @@ impl DrillingRun {
         &self.stations
     }
 
+    /// The plate's outward normal (world).
+    fn normal(&self) -> Vector3<f64> {
+        self.plate.rotation.column(2).into_owned()
+    }
+
     /// The tool's approach point above `station`.
     fn approach(&self, station: usize) -> Se3 {
         self.above(station, self.s.cycle.standoff)
@@ -228,7 +234,7 @@ impl DrillingRun {
         let wall = Instant::now();
         let model = self.model.clone();
         let (nq, nv) = (model.nq, model.nv);
-        let normal = self.plate.rotation.column(2).into_owned();
+        let normal = self.normal();
         let sd = self.s.sensors.clone();
         let mut m = DrillingMetrics {
             stations: self.stations.len(),
@@ -256,6 +262,8 @@ impl DrillingRun {
         let mut q_m = DVector::zeros(nq);
         let mut v_m = DVector::zeros(nv);
         let mut dq = DVector::zeros(nv);
+        // The local loop's accelerations after a fallback (the safe command holds no motion).
+        let at_rest_acceleration = DVector::zeros(nv);
         let mut command = Command::Torque(DVector::zeros(model.na()));
         let mut row = Vec::with_capacity(self.columns.len());
         let mut interval_sum = 0.0;
@@ -291,7 +299,7 @@ impl DrillingRun {
             let clamp = normal.dot(&wrench.linear);
             let tangential = (wrench.linear - normal * clamp).norm();
             let load = clamp + sd.load_cell * self.noise.draw();
-            let tip = tip_placement(&model, &self.sim, self.tool_joint, &self.tip_in_joint);
+            let tip = tip_placement(&self.sim, self.tool_joint, &self.tip_in_joint);
 
             // The cycle.
             let (force_ref, force_rate) = self.advance_cycle(t, load, &tip, &mut cyc, &mut m)?;
@@ -333,11 +341,10 @@ impl DrillingRun {
                         if m.first_fallback.is_none() {
                             m.first_fallback = Some(format!("t = {t:.3} s: {r}"));
                         }
-                        let zero = DVector::zeros(nv);
                         self.local.update(
                             q_m.as_slice(),
                             v_m.as_slice(),
-                            &zero,
+                            &at_rest_acceleration,
                             &self.controller.tau,
                         );
                     }
@@ -485,9 +492,7 @@ impl DrillingRun {
                 c.touch = Some(tip.translation);
                 let [x, y] = self.stations[c.station].at;
                 let hole = self.plate.act_point(&Vector3::new(x, y, 0.0));
-                let d = tip.translation - hole;
-                let n = self.plate.rotation.column(2).into_owned();
-                let off = (d - n * n.dot(&d)).norm();
+                let off = along_plate(&self.normal(), tip.translation - hole);
                 m.hole_position_error_max_mm = m.hole_position_error_max_mm.max(off * 1e3);
             }
             Phase::Descend if elapsed >= cy.descent_time + cycle::guarded_time(&cy) + 1.0 => {
@@ -548,9 +553,8 @@ impl DrillingRun {
         }
         let elapsed = t - c.since;
         let ramp = |a: f64, b: f64| {
-            let [s, ds, _] =
-                corps_model::min_jerk::min_jerk((elapsed / cy.ramp_time).clamp(0.0, 1.0));
-            (a + (b - a) * s, (b - a) * ds / cy.ramp_time)
+            let [f, rate, _] = min_jerk_between(a, b, elapsed / cy.ramp_time, cy.ramp_time);
+            (f, rate)
         };
         Ok(match c.phase {
             Phase::Clamp => ramp(cy.touch_force, clamp),
@@ -565,8 +569,7 @@ impl DrillingRun {
     fn start_thrust(&mut self, t: f64, c: &mut CycleState) -> Result<()> {
         let cy = &self.s.cycle;
         let hold = self.stations[c.station].hold;
-        let normal = self.plate.rotation.column(2).into_owned();
-        let f = normal * (cy.thrust / THRUST_STEPS as f64);
+        let f = self.normal() * (cy.thrust / THRUST_STEPS as f64);
         for i in 0..THRUST_STEPS {
             let start = t + cy.thrust_rise * i as f64 / THRUST_STEPS as f64;
             self.sim.add_push(Push {
@@ -598,7 +601,7 @@ impl DrillingRun {
         if c.phase == Phase::Descend && elapsed > c.duration {
             // The guarded approach: straight down the normal at the touch speed.
             let cy = &self.s.cycle;
-            let normal = self.plate.rotation.column(2).into_owned();
+            let normal = self.normal();
             let depth =
                 (cy.touch_speed * (elapsed - c.duration)).min(cy.guard + cy.descent_overshoot);
             let moving = depth < cy.guard + cy.descent_overshoot;
@@ -696,8 +699,7 @@ impl EquippedArm {
 }
 
 /// The tip's true placement in the simulator.
-fn tip_placement(model: &Model, sim: &Simulator, joint: usize, tip_in_joint: &Se3) -> Se3 {
-    let _ = model;
+fn tip_placement(sim: &Simulator, joint: usize, tip_in_joint: &Se3) -> Se3 {
     sim.data().o_m_i[joint] * *tip_in_joint
 }
 

@@ -107,9 +107,6 @@ pub fn drill(args: &DrillArgs) -> Result<DrillReport> {
     l.jitter = args.jitter.unwrap_or(l.jitter);
     l.local_rate_hz = args.local_rate_hz.unwrap_or(l.local_rate_hz);
     scenario.cycle.thrust = args.thrust.unwrap_or(scenario.cycle.thrust);
-    scenario
-        .check()
-        .map_err(|e| anyhow!("{}: {e}", path.display()))?;
     let base = path.parent().unwrap_or(Path::new("."));
     let run = DrillingRun::new(&scenario, base).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     let name = path
@@ -132,14 +129,8 @@ pub fn drill(args: &DrillArgs) -> Result<DrillReport> {
     };
     let metrics = run
         .run(&mut [&mut sink], Some(&crate::interrupt::FLAG))
-        .map_err(|e| match e.interrupted_at() {
-            Some(t) => crate::interrupt::Interrupted {
-                t,
-                dir: dir.display().to_string(),
-            }
-            .into(),
-            None => anyhow!("{}: {e}", path.display()),
-        })?;
+        .map_err(|e| crate::run::command_error(e, &dir))
+        .with_context(|| path.display().to_string())?;
     sink.progress.finish();
     let log = sink.log.finish()?;
     let json = serde_json::to_string_pretty(&metrics)?;

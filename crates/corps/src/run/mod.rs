@@ -346,7 +346,7 @@ impl RowSink for LogSink {
 
 /// A scenario error as the command reports it: an interruption keeps its type, so that the
 /// command says where the outputs are.
-fn command_error(e: ScenarioError, dir: &Path) -> anyhow::Error {
+pub(crate) fn command_error(e: ScenarioError, dir: &Path) -> anyhow::Error {
     match e.interrupted_at() {
         Some(t) => crate::interrupt::Interrupted {
             t,
