@@ -101,7 +101,21 @@ cat <<'TEXT'
 - **Controller #1's torque bounds on FSM #2**: 0.5 N·m per tick cannot shift the weight at the
   first contact release; the robot falls and the simulation diverges at 5.1 s.
 - **Speed** (Deliver 6): BENCHMARKS.md (goal ≤ 0.7× TALOS' TSID tick, missed).
-- Not built: controller #1's configuration (Tables A.2–A.7) and FSM #1 (11 states), so S1 is not
-  run; the rate bound and the strict formulation it needs are.
+- **S1 (FSM #1, controller #1) does not complete a stride.** Built: the eleven states of
+  App. A.1 as data (`config/icub/soft_tasks_fsm1.toml`, `scenarios/icub/fsm1_stepping.toml`):
+  per-state gains of Tables A.4–A.5 blended by minimum jerk over t_smooth, Table A.6's
+  offsets (its δCoMy/δCoMz of states 5 and 10 read as centimetres), Table A.7's torso and
+  arm set-points, the conditions f_liftoff, e_leg, e_foot and t_balancing, and each state's
+  leg set-point by inverse kinematics of its CoM, feet and root set-points (A.7's leg angles
+  are the thesis robot's, whose legs started straight and 0.13 m apart; this iCub's start
+  bent and 0.21 m apart). Measured (`crates/corps/tests/icub_stepping.rs`, `fsm1_…`): the
+  CoM moves over the left foot and the right foot unloads below 60 N at 3.5 s; with Table
+  A.3's torque-rate bound (0.5 N·m per 10 ms tick) the robot falls 0.8 s after the right
+  foot is released (diverged at 4.33 s). Without the bound the right foot rises to its 5 cm
+  set-point (0.4 mm off), the legs settle within 5° of theirs, the machine enters state 4 at
+  8.5 s and stays there: with the CoM over the left foot at its initial height the right
+  foot cannot come back to its initial placement, 0.21 m away (it stays 11 mm up against
+  e_foot = 10 mm). The report's thesis lines on this run are S2's (≥ 50 cycles, 20 N,
+  14 s), not S1's (≥ 75 cycles, 0.03 m, 50 N, 60 s): not yet made per scenario.
 TEXT
 rm -rf "$out"

@@ -52,6 +52,7 @@ pub const EMBEDDED: &[(&str, &str)] = embed!(
     "robots/icub_description/srdf/icub.srdf",
     "config/icub/tsid_torque.toml",
     "config/icub/soft_tasks.toml",
+    "config/icub/soft_tasks_fsm1.toml",
     "robots/simple_humanoid_description/simple_humanoid.toml",
     "robots/simple_humanoid_description/urdf/simple_humanoid.urdf",
     "robots/simple_humanoid_description/srdf/simple_humanoid.srdf",

@@ -172,3 +172,87 @@ fn s7_falls_after_the_first_push_under_both_laws() {
         );
     }
 }
+
+/// The FSM #1 scenario (`scenarios/icub/fsm1_stepping.toml`, seed 001 S1) with `set` added to
+/// its controller, run for `duration`: its metrics and its log's (t, fsm_state, right foot z,
+/// its reference) rows.
+fn fsm1(set: &str, duration: f64) -> (Metrics, Vec<[f64; 4]>) {
+    let text = std::fs::read_to_string(scenario("fsm1_stepping.toml")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("fsm1.toml");
+    std::fs::write(
+        &path,
+        text.replace("settle = 0.5", &format!("settle = 0.5\n{set}")),
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let m = run_file(&path, Some(&out), Some(duration), RunOptions::quiet())
+        .unwrap_or_else(|e| panic!("{e:#}"))
+        .metrics;
+    let log = std::fs::read_to_string(out.join("log.csv")).unwrap();
+    let mut lines = log.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let cols = ["t", "fsm_state", "right_foot_z", "right_foot_z_ref"].map(col);
+    let rows = lines
+        .map(|l| {
+            let v: Vec<f64> = l
+                .split(',')
+                .map(|x| x.parse().unwrap_or(f64::NAN))
+                .collect();
+            cols.map(|c| v[c])
+        })
+        .collect();
+    (m, rows)
+}
+
+/// The states visited, in order (1-based, as seed 001 numbers them), with their entry times.
+fn visited(rows: &[[f64; 4]]) -> Vec<(usize, f64)> {
+    let mut out: Vec<(usize, f64)> = Vec::new();
+    for r in rows {
+        let s = r[1] as usize + 1;
+        if out.last().is_none_or(|l| l.0 != s) {
+            out.push((s, r[0]));
+        }
+    }
+    out
+}
+
+/// Seed 001 S1's first step under FSM #1 and controller #1 (issue 18). The machine moves the
+/// CoM over the left foot until the right one carries less than f_liftoff = 60 N, releases it
+/// and raises it 5 cm; with Table A.3's torque-rate bound (τ̇_max = 50 N·m/s, 0.5 N·m per
+/// tick) the robot then falls within a second (known shortfall, RESULTS.md: the thesis makes
+/// ≥ 75 strides). Without the bound the first step's balancing holds, the legs settle on their
+/// set-points (e_leg = 5°) after t_balancing = 5 s, and the machine stops in state 4: the
+/// right foot cannot come down to its initial placement with the CoM over the left foot
+/// (known shortfall, the same section).
+#[test]
+fn fsm1_takes_its_first_step_and_stops_where_the_known_shortfalls_say() {
+    let (m, rows) = fsm1("", 10.0);
+    let states = visited(&rows);
+    println!("with τ̇_max: {states:?}, {}", m.verdict);
+    assert_eq!(
+        states.iter().map(|s| s.0).take(3).collect::<Vec<_>>(),
+        [1, 2, 3]
+    );
+    assert_ne!(
+        m.verdict.verdict,
+        Verdict::Completed,
+        "the fall under τ̇_max is fixed: update RESULTS.md and this test"
+    );
+    let (m, rows) = fsm1("set = { torque_rate = 1e6 }", 25.0);
+    let states = visited(&rows);
+    println!("without τ̇_max: {states:?}, {}", m.verdict);
+    assert_eq!(m.verdict.verdict, Verdict::Completed, "{}", m.verdict);
+    assert_eq!(states.iter().map(|s| s.0).collect::<Vec<_>>(), [1, 2, 3, 4]);
+    let (t3, t4) = (states[2].1, states[3].1);
+    assert!(t4 - t3 >= 5.0, "t_balancing: {:.2} s", t4 - t3);
+    // The right foot up on its 5 cm set-point at the end of state 3.
+    let up = rows.iter().rfind(|r| r[0] < t4).unwrap();
+    println!("right foot at {:.4} m, set-point {:.4} m", up[2], up[3]);
+    assert!((up[2] - up[3]).abs() < 0.01 && up[3] > 0.045);
+    for (axis, s) in ["x", "y", "z"].iter().zip(&m.com_error) {
+        println!("true CoM error {axis}: peak {:.1} mm", s.peak * 1e3);
+        assert!(s.peak < 0.01);
+    }
+}

@@ -119,6 +119,8 @@ pub struct SoftTasksConfig {
     pub weights: Weights,
     pub com: Pd,
     pub feet: FeetGains,
+    /// The orientation task (the neck in controller #2, the root in #1; `orientation` too).
+    #[serde(alias = "orientation")]
     pub neck: OrientationGains,
     pub posture: PostureGains,
     /// Joint → degrees: the posture reference of these joints, replacing the handover's.

@@ -11,6 +11,11 @@
 //! | prepare touch-down | over stance | initial | released | feet error < e_feet after t_min, or t_max |
 //! | two-feet balancing, swap | initial | initial | on touch (F_z > F_zmin) | CoM error < e_CoM after t_min, or t_max |
 //!
+//! FSM #1 (App. A.1, Tables A.3–A.7, `config/icub/soft_tasks_fsm1.toml`) is eleven such
+//! states whose entries also give their own gains ([`StateGains`]), CoM and swing offsets and
+//! postural set-point, and leave on the swing foot's unloading (f_liftoff) and on the legs'
+//! joint errors (e_leg) besides the CoM and feet errors.
+//!
 //! Errors are distances to the state's set-points (not to the smoothed references), the
 //! feet error the larger of the two feet's. Set-points are taken, when a state is entered,
 //! relative to where the stance foot is then (the handover's offsets from it), so that an
@@ -30,6 +35,9 @@ pub enum ComSetpoint {
     Initial,
     /// Its lateral position on the stance foot's, x and height kept, plus `com_offset`.
     OverStance,
+    /// The stance sole's x and y, the initial height, plus the offset (FSM #1: "CoM xy =
+    /// left-foot origin + δ_CoM", seed 001 App. A.1).
+    OnStance,
 }
 
 /// Where a state puts the swing foot.
@@ -61,6 +69,29 @@ pub struct Conditions {
     pub com_error_below: Option<f64>,
     /// Both feet's distances to their set-points below this (m).
     pub feet_error_below: Option<f64>,
+    /// The swing foot's measured normal force below this (N; FSM #1's f_liftoff).
+    pub swing_force_below: Option<f64>,
+    /// Every joint of both legs within this of the state's postural set-point (degrees;
+    /// FSM #1's e_leg and e_legc).
+    pub legs_error_below_deg: Option<f64>,
+}
+
+/// A state's own proportional gains (seed 001 Tables A.4–A.5; D = 2√P); what a state does
+/// not give is the file's.
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct StateGains {
+    /// CoM P per axis.
+    pub com: Option<[f64; 3]>,
+    /// The stance foot's P, [linear, angular].
+    pub stance: Option<[f64; 2]>,
+    /// The swing foot's P, [linear, angular], in contact or not.
+    pub swing: Option<[f64; 2]>,
+    /// The orientation task's P (K0).
+    pub orientation: Option<f64>,
+    /// Posture P per joint group (joint-name prefix → one P per joint, as `posture.groups`).
+    #[serde(default)]
+    pub posture: std::collections::BTreeMap<String, Vec<f64>>,
 }
 
 /// One state.
@@ -83,6 +114,16 @@ pub struct StateConfig {
     /// Stance and swing feet exchange roles when the state is left.
     #[serde(default)]
     pub swap_feet_on_exit: bool,
+    /// δ_CoM of this state, replacing the machine's `com_offset`.
+    pub com_offset: Option<[f64; 3]>,
+    /// δ_swingfoot of this state, replacing the machine's `swing_offset`.
+    pub swing_offset: Option<[f64; 3]>,
+    /// The postural set-point of this state: joint → degrees; the other joints keep the
+    /// initial posture.
+    #[serde(default)]
+    pub posture_deg: std::collections::BTreeMap<String, f64>,
+    #[serde(default)]
+    pub gains: StateGains,
 }
 
 /// The machine (`[fsm]`).
@@ -99,6 +140,10 @@ pub struct FsmConfig {
     pub swing_offset: [f64; 3],
     /// F_zmin: the normal force at which a landing swing foot becomes a contact (N).
     pub touchdown_force: f64,
+    /// Each state's leg joints take, as postural set-point, the inverse kinematics of its CoM,
+    /// feet and orientation set-points ([`super::stance_ik`]) instead of `posture_deg`.
+    #[serde(default)]
+    pub legs_from_kinematics: bool,
     /// The states; the first is the initial one.
     pub states: Vec<StateConfig>,
 }
@@ -124,6 +169,25 @@ impl FsmConfig {
                 bail!("fsm offsets: entry {k} is {x}");
             }
         }
+        for s in &self.states {
+            let offsets = s.com_offset.iter().chain(&s.swing_offset).flatten();
+            let degrees = s.posture_deg.values();
+            if let Some(x) = offsets.chain(degrees).find(|x| !x.is_finite()) {
+                bail!("fsm state '{}': an offset or posture angle is {x}", s.name);
+            }
+            let g = &s.gains;
+            let gains = (g.com.iter().flatten())
+                .chain(g.stance.iter().flatten())
+                .chain(g.swing.iter().flatten())
+                .chain(&g.orientation)
+                .chain(g.posture.values().flatten());
+            if let Some(x) = gains.into_iter().find(|x| !(**x >= 0.0 && x.is_finite())) {
+                bail!(
+                    "fsm state '{}': gain {x} must be finite and not negative",
+                    s.name
+                );
+            }
+        }
         let mut index = HashMap::new();
         for (k, s) in self.states.iter().enumerate() {
             if index.insert(s.name.as_str(), k).is_some() {
@@ -147,10 +211,12 @@ impl FsmConfig {
             for (name, x) in [
                 ("com_error_below", s.when.com_error_below),
                 ("feet_error_below", s.when.feet_error_below),
+                ("swing_force_below", s.when.swing_force_below),
+                ("legs_error_below_deg", s.when.legs_error_below_deg),
             ] {
                 if let Some(x) = x {
                     if !(x > 0.0 && x.is_finite()) {
-                        bail!("{at}: when.{name} = {x}: a distance threshold must be positive");
+                        bail!("{at}: when.{name} = {x}: a threshold must be positive");
                     }
                 }
             }
@@ -179,6 +245,9 @@ pub struct FsmInput {
     pub feet: [Vector3<f64>; 2],
     /// Measured normal forces on the soles, left then right (N).
     pub normal_forces: [f64; 2],
+    /// The largest distance of a leg joint to the current state's postural set-point (rad),
+    /// left leg then right.
+    pub leg_errors: [f64; 2],
 }
 
 /// The running machine.
@@ -277,9 +346,55 @@ impl StateMachine {
         }
     }
 
+    /// The current state's entry (its gains and postural set-point).
+    pub fn current_state(&self) -> &StateConfig {
+        self.state()
+    }
+
     /// The smoothing time of set-point changes.
     pub fn t_smooth(&self) -> f64 {
         self.config.t_smooth
+    }
+
+    /// The CoM and swing-foot set-points of state `k` with `stance` standing at `stance_at`,
+    /// the feet having moved by `moved` since the handover.
+    fn set_points(
+        &self,
+        k: usize,
+        stance: Side,
+        stance_at: Vector3<f64>,
+        moved: Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let s = &self.config.states[k];
+        let swing = match stance {
+            Side::Left => Side::Right,
+            Side::Right => Side::Left,
+        };
+        let com0 = self.com0 + moved;
+        let com_offset = Vector3::from(s.com_offset.unwrap_or(self.config.com_offset));
+        let swing_offset = Vector3::from(s.swing_offset.unwrap_or(self.config.swing_offset));
+        let com = match s.com {
+            ComSetpoint::Initial => com0,
+            ComSetpoint::OverStance => Vector3::new(com0.x, stance_at.y, com0.z) + com_offset,
+            ComSetpoint::OnStance => Vector3::new(stance_at.x, stance_at.y, com0.z) + com_offset,
+        };
+        let foot = match s.swing {
+            SwingSetpoint::Initial => self.feet0[swing.index()] + moved,
+            SwingSetpoint::Raised => self.feet0[swing.index()] + moved + swing_offset,
+        };
+        (com, foot)
+    }
+
+    /// The CoM and swing-foot set-points state `k` would take with `stance` standing, the
+    /// feet where they were at the handover.
+    pub fn planned(&self, k: usize, stance: Side) -> (Vector3<f64>, Vector3<f64>) {
+        let at = self.feet0[stance.index()];
+        self.set_points(k, stance, at, Vector3::zeros())
+    }
+
+    /// The feet's placements at the handover, left then right.
+    pub fn initial_feet(&self) -> [Vector3<f64>; 2] {
+        self.feet0
     }
 
     fn enter(&mut self, k: usize, t: f64) {
@@ -289,21 +404,8 @@ impl StateMachine {
         let stance = self.feet[self.stance.index()];
         // How far the stance foot is from where it was at the handover.
         let moved = stance - self.feet0[self.stance.index()];
-        let swing = self.swing().index();
-        let com0 = self.com0 + moved;
         self.stance_at_entry = stance;
-        self.com_setpoint = match s.com {
-            ComSetpoint::Initial => com0,
-            ComSetpoint::OverStance => {
-                Vector3::new(com0.x, stance.y, com0.z) + Vector3::from(self.config.com_offset)
-            }
-        };
-        self.swing_setpoint = match s.swing {
-            SwingSetpoint::Initial => self.feet0[swing] + moved,
-            SwingSetpoint::Raised => {
-                self.feet0[swing] + moved + Vector3::from(self.config.swing_offset)
-            }
-        };
+        (self.com_setpoint, self.swing_setpoint) = self.set_points(k, self.stance, stance, moved);
         self.swing_in_contact = match s.swing_contact {
             SwingContact::Kept => true,
             SwingContact::Released => false,
@@ -333,11 +435,16 @@ impl StateMachine {
         let feet_error = [Side::Left, Side::Right]
             .map(|side| (input.feet[side.index()] - self.foot_setpoint(side)).norm());
         let feet_ok = (when.feet_error_below).is_none_or(|e| feet_error.iter().all(|f| *f < e));
+        let swing_force = input.normal_forces[self.swing().index()];
+        let unloaded = (when.swing_force_below).is_none_or(|f| swing_force < f);
+        let legs_ok = (when.legs_error_below_deg)
+            .is_none_or(|e| input.leg_errors.iter().all(|x| x.to_degrees() < e));
         let timed_out = max_time.is_some_and(|m| elapsed >= m);
         // An on-touch state waits for the touch, whatever its conditions and times: leaving
         // it (and swapping the feet) with the swing foot in the air would stand on it.
         let touched = !on_touch || self.swing_in_contact;
-        if touched && ((elapsed >= min_time && com_ok && feet_ok) || timed_out) {
+        let conditions = com_ok && feet_ok && unloaded && legs_ok;
+        if touched && ((elapsed >= min_time && conditions) || timed_out) {
             if swap {
                 self.stance = self.swing();
                 self.steps += 1;
@@ -421,6 +528,7 @@ swap_feet_on_exit = true
             com: m.com_setpoint(),
             feet: [Side::Left, Side::Right].map(|s| m.foot_setpoint(s)),
             normal_forces: fz,
+            leg_errors: [0.0; 2],
         }
     }
 
@@ -476,6 +584,7 @@ swap_feet_on_exit = true
             com: Vector3::new(1.0, 1.0, 1.0),
             feet: [Vector3::y(), -Vector3::y()],
             normal_forces: [0.0; 2],
+            leg_errors: [0.0; 2],
         };
         m.update(&far(2.0));
         assert_eq!(m.current_name(), "com_to_stance");
@@ -512,6 +621,50 @@ swap_feet_on_exit = true
         m.update(&input(t, &m, fz));
         assert_eq!(m.current_name(), "com_to_stance");
         assert_eq!(m.steps, 1);
+    }
+
+    /// FSM #1's conditions: the swing foot unloaded below f_liftoff and the legs within e_leg
+    /// of the state's set-point; a state's own δ_CoM on the stance sole.
+    #[test]
+    fn fsm1_conditions_hold_a_state_until_the_foot_unloads_and_the_legs_settle() {
+        let mut c = fsm2();
+        c.states[1].com = ComSetpoint::OnStance;
+        c.states[1].com_offset = Some([0.01, 0.01, 0.0]);
+        c.states[1].min_time = 0.0;
+        c.states[1].when = Conditions {
+            com_error_below: Some(0.01),
+            swing_force_below: Some(60.0),
+            legs_error_below_deg: Some(5.0),
+            ..Default::default()
+        };
+        c.check().unwrap();
+        let feet0 = [Vector3::new(0.02, 0.07, 0.0), Vector3::new(0.0, -0.07, 0.0)];
+        let mut m = StateMachine::new(c, 0.0, Vector3::new(0.0, 0.0, 0.5), feet0);
+        m.update(&input(2.0, &m, [140.0, 140.0]));
+        assert_eq!(m.current_name(), "com_to_stance");
+        assert_eq!(m.com_setpoint(), Vector3::new(0.03, 0.08, 0.5));
+        // CoM on its set-point, but the right foot still carries 100 N.
+        m.update(&input(2.1, &m, [180.0, 100.0]));
+        assert_eq!(m.current_name(), "com_to_stance");
+        // Unloaded, but a leg joint 6° off.
+        let mut i = input(2.2, &m, [250.0, 30.0]);
+        i.leg_errors = [0.0, 6f64.to_radians()];
+        m.update(&i);
+        assert_eq!(m.current_name(), "com_to_stance");
+        i.leg_errors = [0.0, 4f64.to_radians()];
+        i.t = 2.3;
+        m.update(&i);
+        assert_eq!(m.current_name(), "stance_balancing");
+        let mut bad = fsm2();
+        bad.states[1].when.swing_force_below = Some(-1.0);
+        assert!(bad.check().unwrap_err().to_string().contains("positive"));
+        let mut bad = fsm2();
+        bad.states[2].gains.orientation = Some(-5.0);
+        assert!(bad
+            .check()
+            .unwrap_err()
+            .to_string()
+            .contains("not negative"));
     }
 
     #[test]

@@ -19,6 +19,8 @@ pub mod fsm;
 mod posture_law;
 mod report;
 mod smoothing;
+mod stance_ik;
+mod state_gains;
 
 pub use config::SoftTasksConfig;
 
@@ -41,14 +43,16 @@ use nalgebra::{DVector, Matrix3, Vector3, Vector6};
 use posture_law::PostureLaw;
 use report::SteppingStats;
 use smoothing::Smoothed;
+use state_gains::StateSettings;
 use std::sync::Arc;
 
 /// The controller's log columns: the state (index in the file), steps completed, the stance
 /// foot (1 left, 0 right), the QP's normal forces and the distance between measured (F/T
 /// through the estimator) and QP-desired contact forces per foot, that distance for a foot in
-/// contact outside the switching windows (NaN inside, or for a released foot), the neck's distance δ (Eq 2.16) to its reference, and the
-/// smallest distance of a watched joint to its limits (degrees, negative past one).
-pub const SOFT_TASKS_CHANNELS: [&str; 11] = [
+/// contact outside the switching windows (NaN inside, or for a released foot), the neck's distance δ (Eq 2.16) to its reference, the
+/// smallest distance of a watched joint to its limits (degrees, negative past one) and the
+/// largest distance of a leg joint to the state's postural set-point (degrees; FSM #1's e_leg).
+pub const SOFT_TASKS_CHANNELS: [&str; 12] = [
     "fsm_state",
     "fsm_steps",
     "stance_left",
@@ -60,6 +64,7 @@ pub const SOFT_TASKS_CHANNELS: [&str; 11] = [
     "force_error_right_outside_switching_N",
     "neck_distance",
     "joint_limit_margin_deg",
+    "leg_error_deg",
 ];
 
 struct Foot {
@@ -86,7 +91,9 @@ pub struct SoftTasksController {
     /// The posture's law (classical or re-parametrised), its accelerations (na) and Eq B.3's
     /// workspace when the posture's reference is made consistent with the Cartesian tasks.
     posture: (PostureLaw, DVector<f64>, Option<ConsistentPosture>),
-    signals: [f64; 11],
+    /// The states' gains and postural set-points, and the switch under way.
+    settings: StateSettings,
+    signals: [f64; 12],
     stats: SteppingStats,
     steps_seen: usize,
 }
@@ -218,6 +225,14 @@ impl SoftTasksController {
         let [left, right]: [Foot; 2] = feet.try_into().unwrap_or_else(|_| unreachable!());
         let com0 = state.data.com;
         let fsm = StateMachine::new(config.fsm.clone(), 0.0, com0, feet0);
+        let settings = StateSettings::new(
+            &model,
+            &config,
+            &posture_law.0,
+            [left.contact.frame, right.contact.frame],
+            &fsm,
+            q,
+        )?;
         let targets = Targets::at_rest(
             &com0,
             &[
@@ -237,7 +252,8 @@ impl SoftTasksController {
             command: Command::Torque(DVector::zeros(na)),
             last_switch: f64::NEG_INFINITY,
             posture: posture_law,
-            signals: [f64::NAN; 11],
+            settings,
+            signals: [f64::NAN; 12],
             stats: SteppingStats::new(),
             steps_seen: 0,
             config,
@@ -281,8 +297,50 @@ impl SoftTasksController {
         Ok(())
     }
 
+    /// The state's gains at `t` into the tasks, when the states give their own (Kd = 2√Kp):
+    /// the stance foot's and the swing foot's, whether a contact or a task.
+    fn set_gains(&mut self, t: f64) {
+        let ts = self.fsm.t_smooth();
+        self.settings.update(t, ts);
+        if !self.settings.varies {
+            return;
+        }
+        let g = &self.settings.now;
+        let damping = |p: f64| 2.0 * p.max(0.0).sqrt();
+        if let Some(com) = self.tf.tasks.task_mut::<ComTask>("com") {
+            com.kp = g.com;
+            com.kd = g.com.map(damping);
+        }
+        if let Some(o) = self.tf.tasks.task_mut::<OrientationTask>("neck") {
+            o.k0 = g.orientation;
+            o.k1 = damping(g.orientation);
+        }
+        for side in [Side::Left, Side::Right] {
+            let [lin, ang] = if side == self.fsm.stance() {
+                g.stance
+            } else {
+                g.swing
+            };
+            let kp = Vector6::new(lin, lin, lin, ang, ang, ang);
+            let kd = kp.map(damping);
+            let foot = &self.feet[side.index()];
+            if foot.in_contact {
+                let name = &foot.contact.name;
+                if let Some(c) = self.tf.contacts.iter_mut().find(|c| &c.name == name) {
+                    c.motion.kp = kp;
+                    c.motion.kd = kd;
+                }
+            } else if let Some(task) = self.tf.tasks.task_mut::<Se3Task>(&foot.swing_task) {
+                task.kp = kp;
+                task.kd = kd;
+            }
+        }
+        self.posture.0.set_gains(&g.posture);
+    }
+
     /// Writes the smoothed references into the tasks and into [`Self::targets`].
     fn set_references(&mut self, t: f64) {
+        self.posture.0.sample(t);
         let [p, v, a] = self.com_ref.sample(t);
         let r = &mut self.targets.com;
         r.pos.copy_from(&p);
@@ -446,8 +504,13 @@ impl WholeBodyController for SoftTasksController {
             com: measured.com,
             feet: measured.feet.map(|f| f.translation.vector),
             normal_forces: measured.foot_wrenches.map(|w| w.force.z),
+            leg_errors: self.settings.leg_errors(q, &self.posture.0),
         };
+        self.signals[11] = input.leg_errors[0].max(input.leg_errors[1]).to_degrees();
         self.fsm.update(&input);
+        let ts = self.fsm.t_smooth();
+        let (k, stance) = (self.fsm.current(), self.fsm.stance());
+        (self.settings).enter(k, stance, t, ts, &mut self.posture.0);
         if let Err(reason) = self.follow_fsm(t) {
             let model = self.model.clone();
             let damping = self.config.safe_damping;
@@ -458,6 +521,7 @@ impl WholeBodyController for SoftTasksController {
             return Some(reason);
         }
         self.set_references(t);
+        self.set_gains(t);
         let model = self.model.clone();
         let posture = &mut self.posture;
         let reason = self.tf.tick_with(

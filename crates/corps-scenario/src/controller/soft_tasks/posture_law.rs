@@ -3,9 +3,11 @@
 //! `s̈* = −J⁻¹K_p ξ̃ − J⁻¹K_d J⁻¹ ṡ` that keeps each joint inside its limits
 //! ([`corps_control::joint_limits`]) on the joints whose limits the file gives (seed 001
 //! applies it to all 23 with its Table 3.1 limits), and the run's smallest distance to a
-//! limit.
+//! limit. The reference moves between set-points by minimum-jerk quintics ([`Smoothed`]),
+//! whose velocity and acceleration feed both laws.
 
 use super::config::{JointLimitsConfig, Law};
+use super::smoothing::Smoothed;
 use crate::error::{bail, Result};
 use corps_control::joint_limits::{postural_acceleration, TanhJointMap};
 use corps_control::RobotState;
@@ -22,8 +24,13 @@ pub struct PostureLaw {
     law: Law,
     kp: DVector<f64>,
     kd: DVector<f64>,
-    /// The posture reference, per joint of `joints`.
-    reference: Vec<f64>,
+    /// The initial set-point (the handover's posture with the file's overrides), per joint
+    /// of `joints`.
+    initial: Vec<f64>,
+    /// The reference per joint, and its position, velocity and acceleration at the last
+    /// [`PostureLaw::sample`].
+    reference: Vec<Smoothed<f64>>,
+    sampled: Vec<[f64; 3]>,
     /// Per joint, whether the file gives its limits: the re-parametrised law acts on those
     /// (the others keep the classical PD) and their margin is watched (else every joint's).
     given: Vec<bool>,
@@ -86,6 +93,7 @@ impl PostureLaw {
             }
         }
         let law = limits.map_or(Law::Classical, |l| l.law);
+        let initial = reference;
         let xi_max = limits.map_or(1.0, |l| l.xi_max);
         // A joint without finite limits cannot be re-parametrised: it keeps a wide box.
         let (lo, hi): (Vec<f64>, Vec<f64>) = (lower.iter().zip(&upper))
@@ -98,20 +106,7 @@ impl PostureLaw {
             })
             .unzip();
         let map = TanhJointMap::new(&lo, &hi, xi_max)?;
-        if law == Law::Reparametrised {
-            for (i, r) in reference.iter().enumerate() {
-                if given[i] && map.xi_of_reference(i, *r).is_err() {
-                    bail!(
-                        "posture: the reference of '{}' ({:.2}°) is not inside its limits [{:.2}°, {:.2}°], which the re-parametrised law needs",
-                        names[i],
-                        r.to_degrees(),
-                        lo[i].to_degrees(),
-                        hi[i].to_degrees()
-                    );
-                }
-            }
-        }
-        Ok(Self {
+        let out = Self {
             given,
             joints,
             names,
@@ -121,20 +116,96 @@ impl PostureLaw {
             law,
             kp,
             kd,
-            reference,
-        })
+            reference: initial.iter().map(|r| Smoothed::at(*r)).collect(),
+            sampled: initial.iter().map(|r| [*r, 0.0, 0.0]).collect(),
+            initial,
+        };
+        out.check_inside(&out.initial)?;
+        Ok(out)
+    }
+
+    /// The re-parametrised law needs every reference strictly inside the limits it acts on.
+    fn check_inside(&self, set_point: &[f64]) -> Result<()> {
+        if self.law != Law::Reparametrised {
+            return Ok(());
+        }
+        for (i, r) in set_point.iter().enumerate() {
+            if self.given[i] && self.map.xi_of_reference(i, *r).is_err() {
+                bail!(
+                    "posture: the reference of '{}' ({:.2}°) is not inside its limits [{:.2}°, {:.2}°], which the re-parametrised law needs",
+                    self.names[i],
+                    r.to_degrees(),
+                    self.lower[i].to_degrees(),
+                    self.upper[i].to_degrees()
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// The initial set-point with `overrides_deg` (joint → degrees), per joint, checked.
+    pub fn set_point(
+        &self,
+        overrides_deg: &std::collections::BTreeMap<String, f64>,
+    ) -> Result<Vec<f64>> {
+        let mut out = self.initial.clone();
+        for (name, deg) in overrides_deg {
+            let Some(i) = self.index_of(name) else {
+                bail!("posture: no actuated joint named '{name}'");
+            };
+            out[i] = deg.to_radians();
+        }
+        self.check_inside(&out)?;
+        Ok(out)
+    }
+
+    /// Joint `i`'s index in the configuration.
+    pub fn q_index(&self, i: usize) -> usize {
+        self.joints[i].0
+    }
+
+    /// The law's index of the joint named `name`.
+    pub fn index_of(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == name)
+    }
+
+    /// Joint `i`'s distance to `set_point` at configuration `q` (rad).
+    pub fn error(&self, q: &[f64], i: usize, set_point: f64) -> f64 {
+        (q[self.joints[i].0] - set_point).abs()
+    }
+
+    /// Every joint's reference heads to `set_point` from `t` over `duration`.
+    pub fn go_to(&mut self, t: f64, set_point: &[f64], duration: f64) {
+        for (r, x) in self.reference.iter_mut().zip(set_point) {
+            r.go_to(t, *x, duration);
+        }
+    }
+
+    /// Samples the references at `t` (their position, velocity and acceleration).
+    pub fn sample(&mut self, t: f64) {
+        for (out, r) in self.sampled.iter_mut().zip(&self.reference) {
+            *out = r.sample(t);
+        }
+    }
+
+    /// Kp per actuated dof and Kd = 2√Kp.
+    pub fn set_gains(&mut self, kp: &DVector<f64>) {
+        self.kp.copy_from(kp);
+        for (d, p) in self.kd.iter_mut().zip(kp.iter()) {
+            *d = 2.0 * p.sqrt();
+        }
     }
 
     /// The reference accelerations of the actuated dofs into `out` (na).
     pub fn accelerations(&self, s: &RobotState, out: &mut DVector<f64>) -> Result<()> {
         for (i, &(iq, ia)) in self.joints.iter().enumerate() {
             let (q, v) = (s.q[iq], s.v[ia + (s.v.len() - out.len())]);
-            let (kp, kd, r) = (self.kp[ia], self.kd[ia], self.reference[i]);
+            let (kp, kd, [r, r_dot, r_ddot]) = (self.kp[ia], self.kd[ia], self.sampled[i]);
             out[ia] = match self.law {
                 Law::Reparametrised if self.given[i] => {
-                    postural_acceleration(&self.map, i, q, v, (r, 0.0, 0.0), kp, kd)?
+                    postural_acceleration(&self.map, i, q, v, (r, r_dot, r_ddot), kp, kd)?
                 }
-                _ => -kp * (q - r) - kd * v,
+                _ => r_ddot - kp * (q - r) - kd * (v - r_dot),
             };
         }
         Ok(())

@@ -4,21 +4,48 @@
 //! keeps the reference twice differentiable.
 
 use nalgebra::Vector3;
+use std::ops::{Add, Div, Mul, Sub};
 
-/// One 3-D reference and the quintic it follows.
+/// What a reference can be: a point (`Vector3`) or one joint's angle (`f64`).
+pub trait Point:
+    Copy
+    + PartialEq
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<f64, Output = Self>
+    + Div<f64, Output = Self>
+{
+}
+impl<T> Point for T where
+    T: Copy
+        + PartialEq
+        + Add<Output = T>
+        + Sub<Output = T>
+        + Mul<f64, Output = T>
+        + Div<f64, Output = T>
+{
+}
+
+/// T's zero (+0 in every component).
+#[allow(clippy::eq_op)]
+fn zero<T: Point>(x: T) -> T {
+    x - x
+}
+
+/// One reference and the quintic it follows.
 #[derive(Clone, Debug)]
-pub struct Smoothed {
+pub struct Smoothed<T: Point = Vector3<f64>> {
     start: f64,
     duration: f64,
     /// Coefficients c0…c5 of p(τ) = Σ c_k τ^k, τ = t − start.
-    c: [Vector3<f64>; 6],
-    target: Vector3<f64>,
+    c: [T; 6],
+    target: T,
 }
 
-impl Smoothed {
+impl<T: Point> Smoothed<T> {
     /// At rest at `p`.
-    pub fn at(p: Vector3<f64>) -> Self {
-        let z = Vector3::zeros();
+    pub fn at(p: T) -> Self {
+        let z = zero(p);
         Self {
             start: 0.0,
             duration: 0.0,
@@ -28,29 +55,27 @@ impl Smoothed {
     }
 
     /// The set-point it is heading to.
-    pub fn target(&self) -> Vector3<f64> {
+    pub fn target(&self) -> T {
         self.target
     }
 
     /// Position, velocity, acceleration at `t`.
-    pub fn sample(&self, t: f64) -> [Vector3<f64>; 3] {
-        let tau = (t - self.start).clamp(0.0, self.duration);
-        if self.duration <= 0.0 {
-            return [self.target, Vector3::zeros(), Vector3::zeros()];
+    pub fn sample(&self, t: f64) -> [T; 3] {
+        let z = zero(self.target);
+        if self.duration <= 0.0 || t - self.start >= self.duration {
+            return [self.target, z, z];
         }
-        if t - self.start >= self.duration {
-            return [self.target, Vector3::zeros(), Vector3::zeros()];
-        }
+        let tau = (t - self.start).max(0.0);
         let c = &self.c;
-        let p = c[0] + tau * (c[1] + tau * (c[2] + tau * (c[3] + tau * (c[4] + tau * c[5]))));
-        let v =
-            c[1] + tau * (2.0 * c[2] + tau * (3.0 * c[3] + tau * (4.0 * c[4] + tau * 5.0 * c[5])));
-        let a = 2.0 * c[2] + tau * (6.0 * c[3] + tau * (12.0 * c[4] + tau * 20.0 * c[5]));
+        let p = c[0] + (c[1] + (c[2] + (c[3] + (c[4] + c[5] * tau) * tau) * tau) * tau) * tau;
+        let v = c[1]
+            + (c[2] * 2.0 + (c[3] * 3.0 + (c[4] * 4.0 + c[5] * (5.0 * tau)) * tau) * tau) * tau;
+        let a = c[2] * 2.0 + (c[3] * 6.0 + (c[4] * 12.0 + c[5] * (20.0 * tau)) * tau) * tau;
         [p, v, a]
     }
 
     /// Heads to `target` from `t`, over `duration` (0: a jump).
-    pub fn go_to(&mut self, t: f64, target: Vector3<f64>, duration: f64) {
+    pub fn go_to(&mut self, t: f64, target: T, duration: f64) {
         if target == self.target {
             return;
         }
@@ -67,11 +92,21 @@ impl Smoothed {
             p0,
             v0,
             a0 / 2.0,
-            (20.0 * dp - 12.0 * v0 * d - 3.0 * a0 * d * d) / (2.0 * d.powi(3)),
-            (-30.0 * dp + 16.0 * v0 * d + 3.0 * a0 * d * d) / (2.0 * d.powi(4)),
-            (12.0 * dp - 6.0 * v0 * d - a0 * d * d) / (2.0 * d.powi(5)),
+            (dp * 20.0 - v0 * 12.0 * d - a0 * 3.0 * d * d) / (2.0 * d.powi(3)),
+            (dp * -30.0 + v0 * 16.0 * d + a0 * 3.0 * d * d) / (2.0 * d.powi(4)),
+            (dp * 12.0 - v0 * 6.0 * d - a0 * d * d) / (2.0 * d.powi(5)),
         ];
     }
+}
+
+/// The minimum-jerk blend `10x³ − 15x⁴ + 6x⁵` of `x = elapsed / duration` clamped to [0, 1]
+/// (1 for a duration ≤ 0): how far a gain switch has gone.
+pub fn min_jerk_fraction(elapsed: f64, duration: f64) -> f64 {
+    if duration <= 0.0 {
+        return 1.0;
+    }
+    let x = (elapsed / duration).clamp(0.0, 1.0);
+    x * x * x * (10.0 + x * (6.0 * x - 15.0))
 }
 
 #[cfg(test)]
@@ -94,6 +129,11 @@ mod tests {
             );
         }
         let end = s.sample(4.2);
+        let mut angle = Smoothed::at(0.0);
+        angle.go_to(1.0, 1.0, 2.0);
+        assert!((angle.sample(2.0)[0] - 0.5).abs() < 1e-12);
+        assert!((min_jerk_fraction(1.0, 2.0) - 0.5).abs() < 1e-12);
+        assert_eq!(min_jerk_fraction(3.0, 2.0), 1.0);
         assert!((end[0] - Vector3::new(0.0, 1.0, 0.0)).norm() < 1e-12);
         // Finite differences of the position give the velocity and acceleration.
         let h = 1e-5;
