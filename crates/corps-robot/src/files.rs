@@ -5,7 +5,7 @@
 use std::path::{Component, Path, PathBuf};
 
 /// The built-in robots: name and the description's path in [`EMBEDDED`].
-pub const BUILT_IN: [(&str, &str); 5] = [
+pub const BUILT_IN: [(&str, &str); 6] = [
     ("talos", "robots/talos_data/talos.toml"),
     (
         "talos_flexible_hip",
@@ -15,6 +15,10 @@ pub const BUILT_IN: [(&str, &str); 5] = [
     (
         "icub_backpacked",
         "robots/icub_description/icub_backpacked.toml",
+    ),
+    (
+        "icub_parallel_legs",
+        "robots/icub_description/icub_parallel_legs.toml",
     ),
     (
         "simple_humanoid",
@@ -48,6 +52,7 @@ pub const EMBEDDED: &[(&str, &str)] = embed!(
     "config/talos/passive_torque_posture_fail.toml",
     "robots/icub_description/icub.toml",
     "robots/icub_description/icub_backpacked.toml",
+    "robots/icub_description/icub_parallel_legs.toml",
     "robots/icub_description/robots/icub.urdf",
     "robots/icub_description/srdf/icub.srdf",
     "config/icub/tsid_torque.toml",

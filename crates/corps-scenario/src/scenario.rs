@@ -75,7 +75,7 @@ fn completed() -> Verdict {
     Verdict::Completed
 }
 
-/// `[robot]`: a robot description — a built-in robot (`talos`, `talos_flexible_hip`, `icub`, `icub_backpacked`, `simple_humanoid`) or
+/// `[robot]`: a robot description — a built-in robot (`talos`, `talos_flexible_hip`, `icub`, `icub_backpacked`, `icub_parallel_legs`, `simple_humanoid`) or
 /// a description file relative to the scenario — or, for `corps sim` only, a bare URDF (and
 /// SRDF) relative to the scenario. Default: `description = "talos"`.
 #[derive(Clone, Debug, Default, Deserialize)]

@@ -1,7 +1,9 @@
 //! The soft-tasks controller's tick allocates nothing while the contacts stay as they are
 //! (a contact added or removed resizes the QP once): iCub standing at half-sitting under
-//! `config/icub/soft_tasks.toml`, 150 ticks of FSM #2's first state (two feet, 2 s), after
-//! one tick of warm-up.
+//! `config/icub/soft_tasks.toml`, 150 ticks of FSM #2's first state (two feet, 2 s), and
+//! under `config/icub/soft_tasks_fsm1.toml` 300 ticks through FSM #1's switch from its first
+//! state to its second (new gains blending in, the posture heading to Table A.7's set-point),
+//! after one tick of warm-up.
 
 use corps_control::stabilizer::Wrench;
 use corps_robot::Robot;
@@ -18,10 +20,28 @@ static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn a_tick_between_contact_changes_allocates_nothing() {
-    let robot = Robot::built_in("icub").unwrap().unwrap();
+    let state = ticks_allocate_nothing("icub", "soft_tasks", 150);
+    assert_eq!(state, 0.0, "still in the first state");
+}
+
+#[test]
+fn a_state_switch_of_fsm1_allocates_nothing() {
+    let state = ticks_allocate_nothing("icub_parallel_legs", "soft_tasks_fsm1", 300);
+    assert_eq!(state, 1.0, "in FSM #1's second state");
+}
+
+/// `ticks` ticks of robot `name` under its gains file `gains`, the robot held where it
+/// stands, after one tick of warm-up; returns the state machine's state at the end.
+fn ticks_allocate_nothing(name: &str, gains: &str, ticks: usize) -> f64 {
+    let robot = Robot::built_in(name).unwrap().unwrap();
     let model = robot.model.clone();
-    let source =
-        GainsSource::resolve(None, "soft_tasks", &robot, std::path::Path::new(".")).unwrap();
+    let source = GainsSource::resolve(
+        Some(std::path::Path::new(gains)),
+        "soft_tasks",
+        &robot,
+        std::path::Path::new("."),
+    )
+    .unwrap();
     let config: SoftTasksConfig = gains::load(&source, &toml::Table::new()).unwrap();
     let q = robot.posture.clone();
     let v = DVector::zeros(model.nv);
@@ -62,8 +82,16 @@ fn a_tick_between_contact_changes_allocates_nothing() {
     };
     tick(&mut controller, 0);
     let before = allocations();
-    for k in 1..150 {
+    for k in 1..ticks {
         tick(&mut controller, k);
     }
-    assert_eq!(allocations() - before, 0, "allocations in 149 ticks");
+    assert_eq!(
+        allocations() - before,
+        0,
+        "allocations in {} ticks",
+        ticks - 1
+    );
+    let mut row = Vec::new();
+    controller.push_channels(&mut row);
+    row[0]
 }

@@ -216,9 +216,7 @@ impl ControllerKind {
             ControllerKind::TsidPosition => "TSID (position)",
             ControllerKind::TsidTorque => "TSID (torque)",
             ControllerKind::PassiveTorque => "passive TSID (torque, energy tank)",
-            ControllerKind::SoftTasks => {
-                "soft tasks #2 on [τ; f] (seed 001), stepping state machine"
-            }
+            ControllerKind::SoftTasks => "soft tasks on [τ; f] (seed 001), stepping state machine",
             ControllerKind::TeleopVelocity => {
                 "teleoperation: two-layer velocity HQP (seed 001 §6.1.3), position mode"
             }

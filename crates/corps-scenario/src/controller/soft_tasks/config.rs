@@ -3,6 +3,7 @@
 //! state machine ([`super::fsm::FsmConfig`]).
 
 use super::fsm::FsmConfig;
+use super::report::ThesisFigures;
 use crate::error::{bail, Result};
 use crate::gains::{check_non_negative as non_negative, PostureGains};
 use serde::Deserialize;
@@ -135,6 +136,9 @@ pub struct SoftTasksConfig {
     /// switching" (seed 001 L3013 does not say how wide).
     pub switching_window: f64,
     pub fsm: FsmConfig,
+    /// The thesis's figures the run is judged by (absent: S2's).
+    #[serde(default)]
+    pub thesis: ThesisFigures,
 }
 
 impl SoftTasksConfig {

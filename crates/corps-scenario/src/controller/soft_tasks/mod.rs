@@ -23,6 +23,7 @@ mod stance_ik;
 mod state_gains;
 
 pub use config::SoftTasksConfig;
+pub use report::{Figure, ThesisFigures};
 
 use super::{Measured, WholeBodyController};
 use crate::error::Result;
@@ -254,7 +255,7 @@ impl SoftTasksController {
             posture: posture_law,
             settings,
             signals: [f64::NAN; 12],
-            stats: SteppingStats::new(),
+            stats: SteppingStats::new(config.thesis.clone()),
             steps_seen: 0,
             config,
             model,

@@ -1,11 +1,56 @@
-//! The stepping figures seed 001 gives for controller #2 (S2, L2960–L3136), accumulated over
-//! the run as the controller sees it (its estimate against its references): strides, CoM
-//! and feet errors, the distance between measured and QP-desired contact forces (of the feet
-//! in contact, outside the switching windows), a released foot's early touch, and the
-//! stride's duration.
+//! The stepping figures seed 001 gives for its controllers (S1 for #1, L2763–L2900; S2 for #2,
+//! L2960–L3136), accumulated over the run as the controller sees it (its estimate against
+//! its references): strides, CoM and feet errors, the distance between measured and
+//! QP-desired contact forces (of the feet in contact, outside the switching windows), a
+//! released foot's early touch, and the stride's duration. The thesis's figures to set
+//! beside them come from the controller's file (`[thesis]`, [`ThesisFigures`]).
 
 use crate::metrics::ReportLine;
 use nalgebra::Vector3;
+use serde::Deserialize;
+
+/// One figure of the thesis and where it is.
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Figure {
+    pub value: f64,
+    pub source: String,
+}
+
+fn figure(value: f64, source: &str) -> Figure {
+    Figure {
+        value,
+        source: source.into(),
+    }
+}
+
+/// `[thesis]`: the bounds a stepping run is judged by; default S2's (controller #2, FSM #2).
+#[derive(Clone, Debug, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct ThesisFigures {
+    /// Strides (two steps each) without a fall, at least.
+    pub strides: Figure,
+    /// CoM error per axis, below (m).
+    pub com_error: Figure,
+    /// Feet error, at most (m).
+    pub foot_error: Figure,
+    /// Contact-force error outside switching, below (N).
+    pub force_error: Figure,
+    /// Stride duration, about (s).
+    pub stride: Figure,
+}
+
+impl Default for ThesisFigures {
+    fn default() -> Self {
+        Self {
+            strides: figure(50.0, "seed 001 L3027"),
+            com_error: figure(0.01, "seed 001 L3031"),
+            foot_error: figure(0.04, "seed 001 L3031–L3043, vertical at touchdown"),
+            force_error: figure(20.0, "seed 001 L3013"),
+            stride: figure(14.0, "seed 001 L3132–L3136"),
+        }
+    }
+}
 
 #[derive(Clone, Debug, Default)]
 pub struct SteppingStats {
@@ -17,7 +62,7 @@ pub struct SteppingStats {
     force_sum: f64,
     force_count: usize,
     force_peak: f64,
-    /// Force-error ticks above 20 N outside switching.
+    /// Force-error ticks at or above the thesis's bound outside switching.
     force_over: usize,
     switch_force_peak: f64,
     /// Times of the feet swaps.
@@ -26,12 +71,14 @@ pub struct SteppingStats {
     margin: Option<(f64, usize)>,
     /// The largest normal force measured on a foot the controller has released (N).
     released_force: f64,
+    thesis: ThesisFigures,
 }
 
 impl SteppingStats {
-    pub fn new() -> Self {
+    pub fn new(thesis: ThesisFigures) -> Self {
         Self {
             swaps: Vec::with_capacity(1024),
+            thesis,
             ..Default::default()
         }
     }
@@ -56,7 +103,7 @@ impl SteppingStats {
                 self.force_sum += e;
                 self.force_count += 1;
                 self.force_peak = self.force_peak.max(e);
-                self.force_over += usize::from(e >= 20.0);
+                self.force_over += usize::from(e >= self.thesis.force_error.value);
             } else {
                 self.switch_force_peak = self.switch_force_peak.max(e);
             }
@@ -109,13 +156,16 @@ impl SteppingStats {
             met,
         };
         let n = self.ticks.max(1) as f64;
+        let th = &self.thesis;
+        let strides = self.strides() as f64;
         let mut out = vec![line(
             "strides (two steps each)",
-            self.strides() as f64,
+            strides,
             "",
-            Some("≥ 50 cycles (seed 001 L3027)"),
-            Some(self.strides() >= 50),
+            Some(format!("≥ {} cycles ({})", th.strides.value, th.strides.source).as_str()),
+            Some(strides >= th.strides.value),
         )];
+        let com = &th.com_error;
         for (k, axis) in ["x", "y", "z"].iter().enumerate() {
             out.push(line(
                 &format!("CoM error {axis} (estimate − reference), mean"),
@@ -128,8 +178,8 @@ impl SteppingStats {
                 &format!("CoM error {axis} (estimate − reference), peak"),
                 self.com_peak[k],
                 "m",
-                Some("< 0.01 m (seed 001 L3031)"),
-                Some(self.com_peak[k] < 0.01),
+                Some(format!("< {} m ({})", com.value, com.source).as_str()),
+                Some(self.com_peak[k] < com.value),
             ));
         }
         let foot = self.foot_peak.max();
@@ -137,15 +187,16 @@ impl SteppingStats {
             "feet error (estimate − reference), peak of any axis",
             foot,
             "m",
-            Some("≤ 0.04 m, vertical at touchdown (seed 001 L3031–L3043)"),
-            Some(foot <= 0.04),
+            Some(format!("≤ {} m ({})", th.foot_error.value, th.foot_error.source).as_str()),
+            Some(foot <= th.foot_error.value),
         ));
+        let force = &th.force_error;
         out.push(line(
             "contact-force error outside switching, peak",
             self.force_peak,
             "N",
-            Some("< 20 N except at switching (seed 001 L3013)"),
-            Some(self.force_peak < 20.0),
+            Some(format!("< {} N except at switching ({})", force.value, force.source).as_str()),
+            Some(self.force_peak < force.value),
         ));
         out.push(line(
             "contact-force error outside switching, mean",
@@ -155,7 +206,10 @@ impl SteppingStats {
             None,
         ));
         out.push(line(
-            "contact-force error outside switching, ticks ≥ 20 N",
+            &format!(
+                "contact-force error outside switching, ticks ≥ {} N",
+                force.value
+            ),
             self.force_over as f64,
             "",
             None,
@@ -180,7 +234,7 @@ impl SteppingStats {
                 "stride duration",
                 d,
                 "s",
-                Some("≈ 14 s (seed 001 L3132–L3136)"),
+                Some(format!("≈ {} s ({})", th.stride.value, th.stride.source).as_str()),
                 None,
             ));
         }

@@ -131,3 +131,57 @@ const ITERATIONS: usize = 200;
 /// The largest error (m and rad, stacked) of a least-squares compromise accepted where no
 /// configuration meets every set-point.
 const COMPROMISE: f64 = 0.05;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use corps_model::{forward_kinematics_placements, frame_placement};
+
+    /// iCub with its legs parallel: the CoM 4 cm towards the left sole and the right sole
+    /// 3 cm up; the solution puts every frame and the CoM on its goal (forward kinematics, an
+    /// independent check of the iterations), and moves only the base and the legs.
+    #[test]
+    fn the_solution_meets_every_set_point_and_moves_only_the_legs() {
+        let robot = corps_robot::Robot::built_in("icub_parallel_legs")
+            .unwrap()
+            .unwrap();
+        let model = &robot.model;
+        let q0 = robot.posture.clone();
+        let mut data = Data::new(model);
+        forward_kinematics_placements(model, &mut data, q0.as_slice()).unwrap();
+        let frame = |n: &str| model.frame_id(n).unwrap();
+        let (left, right, root) = (frame("l_sole"), frame("r_sole"), frame("root_link"));
+        let at = |d: &Data, f| frame_placement(model, d, f).unwrap();
+        let (com0, _) = corps_model::com_at_placements(model, &data);
+        let mut raised = at(&data, right);
+        raised.translation.z += 0.03;
+        let goal = StanceGoal {
+            stance: (left, at(&data, left)),
+            swing: (right, raised),
+            com: com0 + Vector3::new(0.0, 0.04, 0.0),
+            orientation: (root, at(&data, root).rotation),
+        };
+        let legs: Vec<usize> = (model.joints.iter())
+            .filter(|j| {
+                j.name.contains("hip") || j.name.contains("knee") || j.name.contains("ankle")
+            })
+            .map(|j| j.idx_v)
+            .collect();
+        assert_eq!(legs.len(), 12);
+        let q = solve(model, &q0, &legs, &goal).unwrap();
+        forward_kinematics_placements(model, &mut data, q.as_slice()).unwrap();
+        let (com, _) = corps_model::com_at_placements(model, &data);
+        assert!((com - goal.com).norm() < 1e-9, "{com:?}");
+        for (f, target) in [goal.stance, goal.swing] {
+            let p = at(&data, f);
+            assert!((p.translation - target.translation).norm() < 1e-9);
+            assert!(log3(&(target.rotation * p.rotation.transpose())).norm() < 1e-9);
+        }
+        assert!(log3(&(goal.orientation.1 * at(&data, root).rotation.transpose())).norm() < 1e-9);
+        for j in (model.joints.iter()).filter(|j| j.kind != corps_model::JointKind::FreeFlyer) {
+            if !legs.contains(&j.idx_v) {
+                assert_eq!(q[j.idx_q], q0[j.idx_q], "{} moved", j.name);
+            }
+        }
+    }
+}
