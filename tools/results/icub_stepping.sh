@@ -87,27 +87,30 @@ cat <<'TEXT'
 ### Shortfalls (S1)
 
 - **The simulation's torque-rate bound**: under Table A.3's τ̇_max = 50 N·m/s the robot falls
-  0.6 s after its first foot release (diverged at 4.14 s). At the release the right foot still
-  carries 48 N (f_liftoff allows 60), the left sole's centre of pressure reaches its outer edge
-  within 50 ms and the CoM keeps going outwards while the torques follow at 0.5 N·m per tick.
-  The run above uses the real robot's 100 N·m/s (Table A.10); 200 N·m/s, tried, steps the same.
-- **Lateral CoM error 14.6 mm** (thesis < 10 mm, "generally"): its peak comes at the foot
-  releases, the same transient, under the rate bound.
-- **Feet error 45 mm** (thesis < 30 mm): the touchdown set-point lies 3 cm below the ground
-  (above), and the reference comes back up over t_smooth after the touch, 30 mm below a foot on
-  the ground at its deepest; the rest is the swing foot's sideways error after a release
-  (24.8 mm in all with τ̇_max = 200 N·m/s, tried).
-- **Force error at switching** up to 1037 N (thesis < half the robot's weight, 139 N): the
-  landing foot presses towards its set-point below the ground until f_touchdown, and the
-  contact it becomes takes the load in one tick.
+  after its first foot release (diverged at 4.62 s). The right foot is released at 3.46 s
+  still carrying 48 N (f_liftoff allows 60); within 40 ms the left sole's centre of pressure
+  is on its outer edge and the robot rolls outwards over it while the torques follow at
+  0.5 N·m per tick. The run above uses the real robot's 100 N·m/s (Table A.10).
+- **Lateral CoM error 10.7 mm** (thesis < 10 mm, "generally"): its peak comes in the second
+  after a foot's release (state 3), the same transient under the rate bound.
+- **Feet error 45 mm** (thesis < 30 mm): sideways, in the second after a release (the true
+  feet's lateral error peaks at 44–46 mm); the touchdown set-point adds up to 30 mm
+  vertically (it lies 3 cm below the ground, above).
+- **Force error at switching** up to 1373 N (thesis < half the robot's weight, 139 N): in the
+  second after a release, the released foot strikes the ground again (its leg's torques fall
+  by at most 1 N·m per tick from carrying up to 60 N) and the stance sole takes impacts of up
+  to 1473 N.
 - **Stride 20.2 s** against the thesis's ≈ 60 s: corps' legs meet e_leg as soon as the
   Cartesian references arrive (their set-points agree with them); the thesis's A.7 angles did
   not, and its conditions waited longer.
-- **The estimate drifts**: over the 1560 s the leg odometry's CoM is 101 mm off the
-  simulator's on average (208 mm at most, mostly vertical, 1.3 mm per landing), and the errors
-  above are the controller's (estimate against reference), as a robot's log has them.
-- The legs' set-points are solved without joint limits: the knees of states 2 and 7 come out
-  0.5–1.1° past their 0° limit (the simulator enforces none).
+- **The estimate drifts**: over the 1560 s the leg odometry's CoM is 110 mm off the
+  simulator's on average (229 mm at most, mostly vertical: about 1.5 mm per landing), and the
+  errors above are the controller's (estimate against reference), as a robot's log has them.
+- **Joint limits**: Table A.7 puts the shoulder pitch at 7.18° in states 3, 5, 8 and 10, past
+  the URDF's 5°; the posture pulls it there and the run's smallest margin is that joint's,
+  2.2° past (the simulator enforces no limits). The legs' set-points come from inverse
+  kinematics without limits; they stay inside the URDF's here (the knees reach +1.1°, below
+  its +23°; seed 001's leg experiments take [−100°, 0°]).
 
 ### Shortfalls (S2)
 

@@ -44,7 +44,7 @@ use nalgebra::{DVector, Matrix3, Vector3, Vector6};
 use posture_law::PostureLaw;
 use report::SteppingStats;
 use smoothing::Smoothed;
-use state_gains::StateSettings;
+use state_gains::{Handover, StateSettings};
 use std::sync::Arc;
 
 /// The controller's log columns: the state (index in the file), steps completed, the stance
@@ -226,14 +226,14 @@ impl SoftTasksController {
         let [left, right]: [Foot; 2] = feet.try_into().unwrap_or_else(|_| unreachable!());
         let com0 = state.data.com;
         let fsm = StateMachine::new(config.fsm.clone(), 0.0, com0, feet0);
-        let settings = StateSettings::new(
-            &model,
-            &config,
-            &posture_law.0,
-            [left.contact.frame, right.contact.frame],
-            &fsm,
+        let settings = StateSettings::new(&Handover {
+            model: &model,
+            config: &config,
+            law: &posture_law.0,
+            soles: [left.contact.frame, right.contact.frame],
+            fsm: &fsm,
             q,
-        )?;
+        })?;
         let targets = Targets::at_rest(
             &com0,
             &[

@@ -125,7 +125,7 @@ impl PostureLaw {
     }
 
     /// The re-parametrised law needs every reference strictly inside the limits it acts on.
-    fn check_inside(&self, set_point: &[f64]) -> Result<()> {
+    pub fn check_inside(&self, set_point: &[f64]) -> Result<()> {
         if self.law != Law::Reparametrised {
             return Ok(());
         }

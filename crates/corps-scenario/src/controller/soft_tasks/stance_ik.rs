@@ -49,15 +49,7 @@ pub fn solve(
     for _ in 0..ITERATIONS {
         let mut r = 0;
         for (frame, target) in [goal.stance, goal.swing] {
-            compute_frame_jacobian(
-                model,
-                &mut data,
-                q.as_slice(),
-                frame,
-                ReferenceFrame::LocalWorldAligned,
-                &mut jac,
-            )?;
-            let at = corps_model::frame_placement(model, &data, frame)?;
+            let at = placed_jacobian(model, &mut data, &q, frame, &mut jac)?;
             let dp = target.translation - at.translation;
             let dr = log3(&(target.rotation * at.rotation.transpose()));
             for k in 0..3 {
@@ -72,15 +64,7 @@ pub fn solve(
             r += 6;
         }
         let (frame, rotation) = goal.orientation;
-        compute_frame_jacobian(
-            model,
-            &mut data,
-            q.as_slice(),
-            frame,
-            ReferenceFrame::LocalWorldAligned,
-            &mut jac,
-        )?;
-        let at = corps_model::frame_placement(model, &data, frame)?;
+        let at = placed_jacobian(model, &mut data, &q, frame, &mut jac)?;
         let dr = log3(&(rotation * at.rotation.transpose()));
         for k in 0..3 {
             e[r + k] = dr[k];
@@ -127,6 +111,20 @@ pub fn solve(
 }
 
 const ITERATIONS: usize = 200;
+
+/// Frame `frame`'s Jacobian at `q` (origin at the frame, world axes) into `jac`, and its
+/// placement.
+fn placed_jacobian(
+    model: &Model,
+    data: &mut Data,
+    q: &DVector<f64>,
+    frame: usize,
+    jac: &mut Matrix6xX<f64>,
+) -> Result<Se3> {
+    let rf = ReferenceFrame::LocalWorldAligned;
+    compute_frame_jacobian(model, data, q.as_slice(), frame, rf, jac)?;
+    Ok(corps_model::frame_placement(model, data, frame)?)
+}
 
 /// The largest error (m and rad, stacked) of a least-squares compromise accepted where no
 /// configuration meets every set-point.

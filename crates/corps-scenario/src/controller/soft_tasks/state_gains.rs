@@ -54,6 +54,18 @@ impl GainSet {
     }
 }
 
+/// What the settings are computed from: the model and the controller's file, its posture law,
+/// the soles' frames (left, right), the state machine and the configuration at the handover.
+#[derive(Clone, Copy)]
+pub struct Handover<'a> {
+    pub model: &'a Model,
+    pub config: &'a SoftTasksConfig,
+    pub law: &'a PostureLaw,
+    pub soles: [usize; 2],
+    pub fsm: &'a StateMachine,
+    pub q: &'a DVector<f64>,
+}
+
 /// Per state: gains and postural set-point; the blend under way; the legs' joints.
 pub struct StateSettings {
     gains: Vec<GainSet>,
@@ -85,16 +97,9 @@ fn chain_to(model: &Model, frame: usize) -> Vec<String> {
 }
 
 impl StateSettings {
-    /// Every state's gains and set-point from `config`, the legs ending at the `soles`
-    /// frames, the robot at `q` at the handover; the first state's are in force.
-    pub fn new(
-        model: &Model,
-        config: &SoftTasksConfig,
-        law: &PostureLaw,
-        soles: [usize; 2],
-        fsm: &StateMachine,
-        q: &DVector<f64>,
-    ) -> Result<Self> {
+    /// Every state's gains and set-point at the handover `h`; the first state's are in force.
+    pub fn new(h: &Handover<'_>) -> Result<Self> {
+        let (model, config, law, soles) = (h.model, h.config, h.law, h.soles);
         let base_posture = config.posture.kp_per_joint(model)?;
         let file = GainSet {
             com: Vector3::repeat(config.com.kp),
@@ -144,12 +149,13 @@ impl StateSettings {
             for stance in [Side::Left, Side::Right] {
                 let mut point = at.clone();
                 if config.fsm.legs_from_kinematics {
-                    let legs_q =
-                        legs_by_kinematics(model, config, law, soles, fsm, q, &at, (k, stance))
-                            .map_err(|e| crate::error::invalid!("fsm state '{}': {e}", s.name))?;
+                    let legs_q = legs_by_kinematics(h, &at, (k, stance))
+                        .map_err(|e| crate::error::invalid!("fsm state '{}': {e}", s.name))?;
                     for &i in legs.iter().flatten() {
                         point[i] = legs_q[law.q_index(i)];
                     }
+                    law.check_inside(&point)
+                        .map_err(|e| crate::error::invalid!("fsm state '{}': {e}", s.name))?;
                 }
                 set_points[stance.index()].push(point);
             }
@@ -168,7 +174,7 @@ impl StateSettings {
             now: first,
             switched_at: 0.0,
             state: 0,
-            stance: fsm.stance(),
+            stance: h.fsm.stance(),
             legs,
         })
     }
@@ -179,8 +185,13 @@ impl StateSettings {
         if k == self.state && stance == self.stance {
             return;
         }
-        (self.state, self.stance) = (k, stance);
         self.from.copy_from(&self.now);
+        if stance != self.stance {
+            // The feet exchange roles: each keeps blending from the gains it had.
+            std::mem::swap(&mut self.from.stance, &mut self.from.swing);
+            std::mem::swap(&mut self.now.stance, &mut self.now.swing);
+        }
+        (self.state, self.stance) = (k, stance);
         self.switched_at = t;
         law.go_to(t, &self.set_points[stance.index()][k], t_smooth);
     }
@@ -204,18 +215,20 @@ impl StateSettings {
 }
 
 /// The configuration whose legs realise state `k`'s set-points with `stance` standing, the
-/// other joints at `set_point` (the law's order), from the handover's `q`.
-#[allow(clippy::too_many_arguments)]
+/// other joints at `set_point` (the law's order), from the handover's configuration.
 fn legs_by_kinematics(
-    model: &Model,
-    config: &SoftTasksConfig,
-    law: &PostureLaw,
-    soles: [usize; 2],
-    fsm: &StateMachine,
-    q: &DVector<f64>,
+    h: &Handover<'_>,
     set_point: &[f64],
     (k, stance): (usize, Side),
 ) -> Result<DVector<f64>> {
+    let Handover {
+        model,
+        config,
+        law,
+        soles,
+        fsm,
+        q,
+    } = *h;
     let mut q = q.clone();
     for (i, x) in set_point.iter().enumerate() {
         q[law.q_index(i)] = *x;
