@@ -22,6 +22,14 @@ impl Side {
             Side::Right => 1,
         }
     }
+
+    /// The other foot.
+    pub fn other(self) -> Side {
+        match self {
+            Side::Left => Side::Right,
+            Side::Right => Side::Left,
+        }
+    }
 }
 
 /// `Ok` when `x` is positive and finite, else an error naming `motion.<name>`.

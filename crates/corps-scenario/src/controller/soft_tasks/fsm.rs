@@ -311,10 +311,7 @@ impl StateMachine {
 
     /// The swing foot.
     pub fn swing(&self) -> Side {
-        match self.stance {
-            Side::Left => Side::Right,
-            Side::Right => Side::Left,
-        }
+        self.stance.other()
     }
 
     /// Whether the swing foot is a contact now.
@@ -346,11 +343,6 @@ impl StateMachine {
         }
     }
 
-    /// The current state's entry (its gains and postural set-point).
-    pub fn current_state(&self) -> &StateConfig {
-        self.state()
-    }
-
     /// The smoothing time of set-point changes.
     pub fn t_smooth(&self) -> f64 {
         self.config.t_smooth
@@ -366,10 +358,7 @@ impl StateMachine {
         moved: Vector3<f64>,
     ) -> (Vector3<f64>, Vector3<f64>) {
         let s = &self.config.states[k];
-        let swing = match stance {
-            Side::Left => Side::Right,
-            Side::Right => Side::Left,
-        };
+        let swing = stance.other();
         let com0 = self.com0 + moved;
         let com_offset = Vector3::from(s.com_offset.unwrap_or(self.config.com_offset));
         let swing_offset = Vector3::from(s.swing_offset.unwrap_or(self.config.swing_offset));
@@ -655,16 +644,6 @@ swap_feet_on_exit = true
         i.t = 2.3;
         m.update(&i);
         assert_eq!(m.current_name(), "stance_balancing");
-        let mut bad = fsm2();
-        bad.states[1].when.swing_force_below = Some(-1.0);
-        assert!(bad.check().unwrap_err().to_string().contains("positive"));
-        let mut bad = fsm2();
-        bad.states[2].gains.orientation = Some(-5.0);
-        assert!(bad
-            .check()
-            .unwrap_err()
-            .to_string()
-            .contains("not negative"));
     }
 
     #[test]
@@ -698,5 +677,24 @@ swap_feet_on_exit = true
         let mut c = fsm2();
         c.states[2].name = "two_feet".into();
         assert!(c.check().unwrap_err().to_string().contains("two states"));
+        // FSM #1's additions: a force threshold and a state's gain.
+        for (set, expected) in [
+            (
+                0,
+                "when.swing_force_below = -1: a threshold must be positive",
+            ),
+            (
+                1,
+                "fsm state 'stance_balancing': gain -5 must be finite and not negative",
+            ),
+        ] {
+            let mut c = fsm2();
+            match set {
+                0 => c.states[1].when.swing_force_below = Some(-1.0),
+                _ => c.states[2].gains.orientation = Some(-5.0),
+            }
+            let err = c.check().unwrap_err().to_string();
+            assert!(err.contains(expected), "{err}");
+        }
     }
 }

@@ -79,21 +79,14 @@ impl PostureLaw {
             }
             lower.push(lo);
             upper.push(hi);
-            reference.push(match overrides_deg.get(&j.name) {
-                Some(deg) => deg.to_radians(),
-                None => q_ref[j.idx_q],
-            });
+            reference.push(q_ref[j.idx_q]);
         }
-        for name in overrides_deg
-            .keys()
-            .chain(limits.iter().flat_map(|l| l.limits_deg.keys()))
-        {
+        for name in limits.iter().flat_map(|l| l.limits_deg.keys()) {
             if !names.contains(name) {
                 bail!("posture: no actuated joint named '{name}'");
             }
         }
         let law = limits.map_or(Law::Classical, |l| l.law);
-        let initial = reference;
         let xi_max = limits.map_or(1.0, |l| l.xi_max);
         // A joint without finite limits cannot be re-parametrised: it keeps a wide box.
         let (lo, hi): (Vec<f64>, Vec<f64>) = (lower.iter().zip(&upper))
@@ -106,7 +99,7 @@ impl PostureLaw {
             })
             .unzip();
         let map = TanhJointMap::new(&lo, &hi, xi_max)?;
-        let out = Self {
+        let mut out = Self {
             given,
             joints,
             names,
@@ -116,11 +109,14 @@ impl PostureLaw {
             law,
             kp,
             kd,
-            reference: initial.iter().map(|r| Smoothed::at(*r)).collect(),
-            sampled: initial.iter().map(|r| [*r, 0.0, 0.0]).collect(),
-            initial,
+            reference: Vec::new(),
+            sampled: Vec::new(),
+            initial: reference,
         };
-        out.check_inside(&out.initial)?;
+        // The handover's posture with the overrides, checked, is the initial set-point.
+        out.initial = out.set_point(overrides_deg)?;
+        out.reference = out.initial.iter().map(|r| Smoothed::at(*r)).collect();
+        out.sampled = out.initial.iter().map(|r| [*r, 0.0, 0.0]).collect();
         Ok(out)
     }
 
@@ -143,7 +139,8 @@ impl PostureLaw {
         Ok(())
     }
 
-    /// The initial set-point with `overrides_deg` (joint → degrees), per joint, checked.
+    /// The initial set-point with `overrides_deg` (joint → degrees), per joint, checked (at
+    /// construction, the handover's posture with them).
     pub fn set_point(
         &self,
         overrides_deg: &std::collections::BTreeMap<String, f64>,

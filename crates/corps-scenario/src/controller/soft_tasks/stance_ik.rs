@@ -16,7 +16,8 @@ use crate::error::{bail, Result};
 use corps_model::spatial::rotation::log3;
 use corps_model::spatial::Se3;
 use corps_model::{
-    compute_frame_jacobian, integrate, jacobian_center_of_mass, Data, Model, ReferenceFrame,
+    compute_frame_jacobian, integrate, jacobian_center_of_mass, Data, JointKind, Model,
+    ReferenceFrame,
 };
 use nalgebra::{DMatrix, DVector, Matrix6xX, Vector3};
 
@@ -28,6 +29,20 @@ pub struct StanceGoal {
     pub com: Vector3<f64>,
     /// The orientation frame and its rotation.
     pub orientation: (usize, nalgebra::Matrix3<f64>),
+}
+
+/// The joints on the chain from the floating base to frame `frame` (indices in the model's
+/// joints, the free-flyer left out), frame first.
+pub fn chain_to(model: &Model, frame: usize) -> Vec<usize> {
+    let mut out = Vec::new();
+    let mut joint = model.frames[frame].parent_joint;
+    while let Some(j) = joint {
+        if model.joints[j].kind != JointKind::FreeFlyer {
+            out.push(j);
+        }
+        joint = model.joints[j].parent;
+    }
+    out
 }
 
 /// Solves for the base and the velocity indices `free` (the legs' joints) from `q` (the other
@@ -73,12 +88,12 @@ pub fn solve(
             }
         }
         r += 3;
-        let jcom = jacobian_center_of_mass(model, &mut data, q.as_slice())?.clone();
+        jacobian_center_of_mass(model, &mut data, q.as_slice())?;
         let dc = goal.com - data.com;
         for k in 0..3 {
             e[r + k] = dc[k];
             for (c, &col) in cols.iter().enumerate() {
-                a[(r + k, c)] = jcom[(k, col)];
+                a[(r + k, c)] = data.jcom[(k, col)];
             }
         }
         if e.norm() < 1e-10 {
@@ -136,8 +151,9 @@ mod tests {
     use corps_model::{forward_kinematics_placements, frame_placement};
 
     /// iCub with its legs parallel: the CoM 4 cm towards the left sole and the right sole
-    /// 3 cm up; the solution puts every frame and the CoM on its goal (forward kinematics, an
-    /// independent check of the iterations), and moves only the base and the legs.
+    /// 3 cm up, the base keeping its rotation; the solution puts every frame and the CoM on its
+    /// goal (forward kinematics, an independent check of the iterations), and moves only the
+    /// base and the legs.
     #[test]
     fn the_solution_meets_every_set_point_and_moves_only_the_legs() {
         let robot = corps_robot::Robot::built_in("icub_parallel_legs")
@@ -147,8 +163,7 @@ mod tests {
         let q0 = robot.posture.clone();
         let mut data = Data::new(model);
         forward_kinematics_placements(model, &mut data, q0.as_slice()).unwrap();
-        let frame = |n: &str| model.frame_id(n).unwrap();
-        let (left, right, root) = (frame("l_sole"), frame("r_sole"), frame("root_link"));
+        let (left, right, root) = (robot.feet[0].frame, robot.feet[1].frame, robot.base);
         let at = |d: &Data, f| frame_placement(model, d, f).unwrap();
         let (com0, _) = corps_model::com_at_placements(model, &data);
         let mut raised = at(&data, right);
@@ -159,11 +174,10 @@ mod tests {
             com: com0 + Vector3::new(0.0, 0.04, 0.0),
             orientation: (root, at(&data, root).rotation),
         };
-        let legs: Vec<usize> = (model.joints.iter())
-            .filter(|j| {
-                j.name.contains("hip") || j.name.contains("knee") || j.name.contains("ankle")
-            })
-            .map(|j| j.idx_v)
+        let legs: Vec<usize> = [left, right]
+            .iter()
+            .flat_map(|f| chain_to(model, *f))
+            .map(|j| model.joints[j].idx_v)
             .collect();
         assert_eq!(legs.len(), 12);
         let q = solve(model, &q0, &legs, &goal).unwrap();

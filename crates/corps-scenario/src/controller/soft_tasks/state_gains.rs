@@ -10,12 +10,12 @@ use super::config::SoftTasksConfig;
 use super::fsm::StateMachine;
 use super::posture_law::PostureLaw;
 use super::smoothing::min_jerk_fraction;
-use super::stance_ik::{self, StanceGoal};
+use super::stance_ik::{self, chain_to, StanceGoal};
 use crate::error::{bail, Result};
 use crate::gains::PostureGains;
 use crate::targets::Side;
 use corps_model::spatial::Se3;
-use corps_model::{JointKind, Model};
+use corps_model::Model;
 use nalgebra::{DVector, Vector3};
 
 /// The proportional gains of one state (D = 2√P throughout).
@@ -82,20 +82,6 @@ pub struct StateSettings {
     legs: [Vec<usize>; 2],
 }
 
-/// The actuated joints on the chain from the floating base to frame `frame`.
-fn chain_to(model: &Model, frame: usize) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut joint = model.frames[frame].parent_joint;
-    while let Some(j) = joint {
-        let jt = &model.joints[j];
-        if jt.kind != JointKind::FreeFlyer {
-            out.push(jt.name.clone());
-        }
-        joint = jt.parent;
-    }
-    out
-}
-
 impl StateSettings {
     /// Every state's gains and set-point at the handover `h`; the first state's are in force.
     pub fn new(h: &Handover<'_>) -> Result<Self> {
@@ -108,16 +94,19 @@ impl StateSettings {
             orientation: config.neck.kp,
             posture: base_posture,
         };
-        let leg_names = soles.map(|frame| chain_to(model, frame));
-        let legs = leg_names.clone().map(|names| {
-            names
-                .iter()
-                .filter_map(|name| law.index_of(name))
+        let chains = soles.map(|frame| chain_to(model, frame));
+        let legs = chains.clone().map(|joints| {
+            (joints.iter())
+                .filter_map(|&j| law.index_of(&model.joints[j].name))
                 .collect::<Vec<_>>()
         });
         if legs.iter().any(Vec::is_empty) {
             bail!("the soles' frames hang from no actuated joint: no legs to watch");
         }
+        // The velocities the inverse kinematics frees: the legs' joints.
+        let free: Vec<usize> = (chains.iter().flatten())
+            .map(|&j| model.joints[j].idx_v)
+            .collect();
         let mut gains = Vec::with_capacity(config.fsm.states.len());
         let mut set_points = [Vec::new(), Vec::new()];
         for (k, s) in config.fsm.states.iter().enumerate() {
@@ -149,7 +138,7 @@ impl StateSettings {
             for stance in [Side::Left, Side::Right] {
                 let mut point = at.clone();
                 if config.fsm.legs_from_kinematics {
-                    let legs_q = legs_by_kinematics(h, &at, (k, stance))
+                    let legs_q = legs_by_kinematics(h, &free, &at, (k, stance))
                         .map_err(|e| crate::error::invalid!("fsm state '{}': {e}", s.name))?;
                     for &i in legs.iter().flatten() {
                         point[i] = legs_q[law.q_index(i)];
@@ -189,7 +178,6 @@ impl StateSettings {
         if stance != self.stance {
             // The feet exchange roles: each keeps blending from the gains it had.
             std::mem::swap(&mut self.from.stance, &mut self.from.swing);
-            std::mem::swap(&mut self.now.stance, &mut self.now.swing);
         }
         (self.state, self.stance) = (k, stance);
         self.switched_at = t;
@@ -214,10 +202,12 @@ impl StateSettings {
     }
 }
 
-/// The configuration whose legs realise state `k`'s set-points with `stance` standing, the
-/// other joints at `set_point` (the law's order), from the handover's configuration.
+/// The configuration whose legs (the velocities `free`) realise state `k`'s set-points with
+/// `stance` standing, the other joints at `set_point` (the law's order), from the handover's
+/// configuration.
 fn legs_by_kinematics(
     h: &Handover<'_>,
+    free: &[usize],
     set_point: &[f64],
     (k, stance): (usize, Side),
 ) -> Result<DVector<f64>> {
@@ -233,10 +223,7 @@ fn legs_by_kinematics(
     for (i, x) in set_point.iter().enumerate() {
         q[law.q_index(i)] = *x;
     }
-    let swing = match stance {
-        Side::Left => Side::Right,
-        Side::Right => Side::Left,
-    };
+    let swing = stance.other();
     let mut data = corps_model::Data::new(model);
     corps_model::forward_kinematics_placements(model, &mut data, q.as_slice())?;
     let placed = |frame| corps_model::frame_placement(model, &data, frame);
@@ -257,10 +244,5 @@ fn legs_by_kinematics(
         com,
         orientation: (orientation, placed(orientation)?.rotation),
     };
-    let free: Vec<usize> = (soles.iter())
-        .flat_map(|f| chain_to(model, *f))
-        .filter_map(|name| model.joint_id(&name).ok())
-        .map(|j| model.joints[j].idx_v)
-        .collect();
-    stance_ik::solve(model, &q, &free, &goal)
+    stance_ik::solve(model, &q, free, &goal)
 }
