@@ -514,7 +514,20 @@ pub struct TeleopMetrics {
     pub joint_limit_violations: usize,
     /// Control ticks without a live operator pose (the references held).
     pub feed_lost_ticks: usize,
+    /// Steps the walking state machine made to the end (Fig 6.6's swap of the feet).
+    pub steps_walked: usize,
+    /// Each step made: its planned length (Eq 6.6–6.7) and the measured one (m).
+    pub step_lengths: Vec<StepLength>,
+    /// Mean |measured − planned| step length (mm); 0 without a step.
+    pub step_length_error_mm: f64,
     pub upper_body: Vec<JointTracking>,
+}
+
+/// One robot step's length.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct StepLength {
+    pub planned_m: f64,
+    pub walked_m: f64,
 }
 
 /// One retargeted joint's tracking.
@@ -643,9 +656,11 @@ impl fmt::Display for Metrics {
         if let Some(t) = &self.teleop {
             writeln!(
                 f,
-                "  teleoperation: operator steps {}, robot steps {}; upper body vs retargeted references RMS {:.2}°, max {:.2}°; {} ticks with a joint past its limits; {} ticks without a live pose",
+                "  teleoperation: operator steps {}, robot steps {} (F/T), {} walked (step length error {:.1} mm); upper body vs retargeted references RMS {:.2}°, max {:.2}°; {} ticks with a joint past its limits; {} ticks without a live pose",
                 t.operator_steps,
                 t.robot_steps,
+                t.steps_walked,
+                t.step_length_error_mm,
                 t.upper_body_rms_deg,
                 t.upper_body_max_deg,
                 t.joint_limit_violations,

@@ -64,3 +64,36 @@ fn a_teleoperation_tick_does_not_allocate() {
     let n = allocations() - before;
     assert_eq!(n, 0, "{n} heap allocations in {} ticks", ticks - 3);
 }
+
+/// The walking state machine (Fig 6.6) through every state of 30 steps, on a robot that follows
+/// its references: no allocation after it is made (its step queue and step record are fixed).
+#[test]
+fn the_walking_state_machine_does_not_allocate() {
+    use corps_scenario::controller::teleop_walk::{PlannedStep, TeleopWalk};
+    use nalgebra::Vector2;
+    let text = std::fs::read_to_string(repo("config/teleop/velocity_hqp.toml")).unwrap();
+    let spec = toml::from_str::<TeleopVelocityConfig>(&text)
+        .unwrap()
+        .walking;
+    let feet = [Vector3::new(0.0, 0.07, 0.0), Vector3::new(0.0, -0.07, 0.0)];
+    let mut walk = TeleopWalk::new(spec, feet, Vector3::zeros());
+    let before = allocations();
+    for k in 0..30 {
+        walk.push(PlannedStep {
+            foot: k % 2,
+            travel: Vector2::new(0.05, 0.0),
+            height: 0.03,
+        });
+    }
+    let mut r = walk.references(0.0);
+    let dt = 0.01;
+    for k in 0..60_000 {
+        let t = k as f64 * dt;
+        let soles = r.feet.map(|p| Isometry3::translation(p.x, p.y, p.z));
+        let forces = r.feet.map(|p| if p.z < 1e-3 { 150.0 } else { 0.0 });
+        r = walk.update(t, &r.com, &soles, forces);
+    }
+    let n = allocations() - before;
+    assert_eq!(walk.steps_done, 30, "steps walked");
+    assert_eq!(n, 0, "{n} heap allocations");
+}

@@ -11,6 +11,7 @@ mod ik;
 pub mod soft_tasks;
 mod stabilized;
 pub mod teleop_velocity;
+pub mod teleop_walk;
 mod tsid;
 
 pub use hand_press::HAND_CHANNELS;

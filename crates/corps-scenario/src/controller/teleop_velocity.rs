@@ -7,12 +7,15 @@
 //! layer solved in the higher's null space by corps' hierarchical QP. ν integrates to the
 //! joint servos' position references (the IK's own state, as in position mode).
 //!
-//! This is the teleoperation double support (state 2a of Fig 6.6): the robot's feet stay;
-//! the operator's steps are detected and counted, not yet walked. A feed that stops holds its
-//! last references (the robot comes to rest in double support).
+//! The operator's steps, detected and normalised by [`StepDetector`], are walked by the state
+//! machine of Fig 6.6 ([`super::teleop_walk`]): the swing foot's and the CoM's references move,
+//! the waist holds its standing height while walking. A feed that stops holds its last
+//! references (the robot finishes the steps it was given and rests in double support).
 
+use super::teleop_walk::{PlannedStep, TeleopWalk, WalkReferences, WalkingSpec};
 use super::WholeBodyController;
 use crate::error::{invalid, Result};
+
 use crate::mocap::Operator;
 use crate::targets::Targets;
 use corps_control::formulation::InverseKinematics;
@@ -27,7 +30,7 @@ use corps_model::spatial::Motion;
 use corps_model::Model;
 use corps_robot::Robot;
 use corps_sim::Command;
-use nalgebra::{DVector, Matrix3, Vector3, Vector6};
+use nalgebra::{DVector, Matrix3, Vector2, Vector3, Vector6};
 use serde::Deserialize;
 use std::sync::Arc;
 
@@ -41,6 +44,8 @@ pub struct TeleopVelocityConfig {
     pub limit_margin: f64,
     pub weights: TeleopWeights,
     pub gains: TeleopGains,
+    /// The walking state machine's thresholds and timings (Table 6.2).
+    pub walking: WalkingSpec,
 }
 
 /// Table 6.1's weights of the second layer.
@@ -65,6 +70,9 @@ pub struct TeleopGains {
     pub waist: f64,
     pub neck: f64,
     pub posture: f64,
+    /// g_d (s) of the sway damping `−g_d (ċ − ċ*)` added to the CoM reference on the measured
+    /// CoM velocity (the stabilizer's, `corps_control::stabilizer` module docs).
+    pub sway_damping: f64,
 }
 
 impl TeleopVelocityConfig {
@@ -87,12 +95,13 @@ impl TeleopVelocityConfig {
             ("gains.waist", g.waist),
             ("gains.neck", g.neck),
             ("gains.posture", g.posture),
+            ("gains.sway_damping", g.sway_damping),
         ] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(invalid!("{name}: must be a finite number ≥ 0"));
             }
         }
-        Ok(())
+        self.walking.check().map_err(|e| invalid!("{e}"))
     }
 }
 
@@ -149,6 +158,13 @@ pub struct TeleopVelocityController {
     neck_rotation: Matrix3<f64>,
     stats: Stats,
     fed: bool,
+    walk: TeleopWalk,
+    /// The waist's height (world z) held while walking: the operator's when the walk began.
+    waist_stand: f64,
+    /// The robot's forward and left directions (world, horizontal) the operator's steps map onto.
+    heading: [Vector2<f64>; 2],
+    walk_references: WalkReferences,
+    sway_damping: f64,
 }
 
 const FEET: [&str; 2] = ["foot_left", "foot_right"];
@@ -272,6 +288,16 @@ impl TeleopVelocityController {
         let waist_z = state.frame_placement(&model, robot.base)?.translation.z;
         let joints = retargeter.joints.clone();
         let n = joints.len();
+        let soles = feet0.map(|f| f.placement.translation);
+        let lateral = (soles[0] - soles[1]).xy();
+        let lateral = lateral.try_normalize(1e-9).unwrap_or_else(Vector2::y);
+        let heading = [Vector2::new(lateral.y, -lateral.x), lateral];
+        let walk = TeleopWalk::new(
+            config.walking.clone(),
+            soles,
+            Vector3::new(mid.x, mid.y, 0.0),
+        );
+        let walk_references = walk.references(0.0);
         // The free-flyer's configuration (none for a fixed base).
         let base_len = if model.has_free_flyer() { 7 } else { 0 };
         let mut q_ref = robot.posture.clone();
@@ -307,12 +333,17 @@ impl TeleopVelocityController {
                 ..Default::default()
             },
             fed: false,
+            walk,
+            waist_stand: waist_z,
+            heading,
+            walk_references,
+            sway_damping: config.gains.sway_damping,
             model,
         })
     }
 
     /// Reads the operator and sets the tasks' references.
-    fn follow(&mut self, t: f64) -> Result<(), ControlError> {
+    fn follow(&mut self, t: f64, measured: &super::Measured) -> Result<(), ControlError> {
         let (pose, feed) = self.operator.source.poll(t);
         match feed {
             // The pose of the last tick (the operator's rate is below the control's): the
@@ -345,7 +376,15 @@ impl TeleopVelocityController {
                     self.q_ref[j.q_index] = *v;
                 }
                 self.waist_z = self.sole_z + self.retargeter.waist_height(pose);
-                self.steps.update(pose.time, self.retargeter.feet(pose));
+                for step in self.steps.update(pose.time, self.retargeter.feet(pose)) {
+                    let Some(step) = step else { continue };
+                    let [forward, left] = self.heading;
+                    self.walk.push(PlannedStep {
+                        foot: step.foot,
+                        travel: forward * step.robot_travel.x + left * step.robot_travel.y,
+                        height: step.robot_height,
+                    });
+                }
                 if let Some((frame, data)) = &mut self.neck {
                     let model = &self.model;
                     corps_model::forward_kinematics_placements(model, data, self.q_ref.as_slice())?;
@@ -362,12 +401,34 @@ impl TeleopVelocityController {
         let posture = self.ik.task_mut::<PostureVelocityTask>("posture")?;
         posture.q_ref.copy_from(&self.q_ref);
         posture.v_ref.copy_from(&self.v_ref);
+        let forces = measured.foot_wrenches.map(|w| w.force.z);
+        let walk = self.walk.update(t, &measured.com, &measured.feet, forces);
+        self.walk_references = walk;
+        for (k, name) in FEET.iter().enumerate() {
+            let foot = &mut self.ik.task_mut::<FrameVelocityTask>(name)?.reference;
+            foot.placement.translation = walk.feet[k];
+            foot.velocity.linear = walk.feet_velocity[k];
+        }
+        // The sway damping of corps_control::stabilizer (its module docs): the CoM reference
+        // moved by −g_d (ċ − ċ*), the damping the servo-held robot's sway lacks.
+        let sway = (measured.com_velocity - walk.com_velocity) * self.sway_damping;
+        let com_ref = walk.com - sway;
+        let com_vel = walk.com_velocity;
+        let com = &mut self.ik.task_mut::<ComVelocityTask>("com_xy")?.reference;
+        for k in 0..2 {
+            com.pos[k] = com_ref[k];
+            com.vel[k] = com_vel[k];
+        }
+        if !self.walk.state.walking() {
+            self.waist_stand = self.waist_z;
+        }
+        let waist_z = self.waist_stand + walk.waist_offset;
         self.ik
             .task_mut::<FrameVelocityTask>("waist")?
             .reference
             .placement
             .translation
-            .z = self.waist_z;
+            .z = waist_z;
         if self.neck.is_some() {
             self.ik
                 .task_mut::<FrameVelocityTask>("neck")?
@@ -415,6 +476,22 @@ impl TeleopVelocityController {
     }
 }
 
+/// The teleoperation controller's log columns: the walking state (0 double support, 1 walking
+/// double support, 2 CoM to the stance sole, 3 liftoff, 4 touchdown, 5 landing), the operator's
+/// steps not yet made, the steps the robot made, the walk's CoM reference, the IK's own CoM
+/// and the walk's soles references.
+pub const TELEOP_CHANNELS: [&str; 9] = [
+    "walk_state",
+    "steps_pending",
+    "steps_walked",
+    "walk_com_ref_x",
+    "walk_com_ref_y",
+    "ik_com_x",
+    "ik_com_y",
+    "left_sole_ref_z",
+    "right_sole_ref_z",
+];
+
 /// A measured joint counts as past its limit beyond this (rad): the servo's own error.
 pub const LIMIT_TOLERANCE: f64 = 1e-3;
 
@@ -429,7 +506,7 @@ impl WholeBodyController for TeleopVelocityController {
     ) -> Option<FallbackReason> {
         let model = self.model.clone();
         self.record(q, measured);
-        let references = self.follow(t);
+        let references = self.follow(t, measured);
         super::ik::position_tick(
             &model,
             &mut self.ik,
@@ -447,6 +524,19 @@ impl WholeBodyController for TeleopVelocityController {
 
     fn controller_com(&self) -> Vector3<f64> {
         self.state.data.com
+    }
+
+    fn channels(&self) -> Vec<&'static str> {
+        TELEOP_CHANNELS.to_vec()
+    }
+
+    fn push_channels(&self, row: &mut Vec<f64>) {
+        row.push(self.walk.state.code());
+        row.push(self.walk.pending() as f64);
+        row.push(self.walk.steps_done as f64);
+        let r = &self.walk_references;
+        let c = self.state.data.com;
+        row.extend([r.com.x, r.com.y, c.x, c.y, r.feet[0].z, r.feet[1].z]);
     }
 
     fn teleop_metrics(&self) -> Option<crate::metrics::TeleopMetrics> {
@@ -468,6 +558,21 @@ impl WholeBodyController for TeleopVelocityController {
             upper_body_max_deg: s.max.iter().copied().fold(0.0, f64::max),
             joint_limit_violations: s.limit_violations,
             feed_lost_ticks: s.lost_ticks,
+            steps_walked: self.walk.steps_done,
+            step_lengths: (self.walk.lengths.iter())
+                .map(|&[planned_m, walked_m]| crate::metrics::StepLength {
+                    planned_m,
+                    walked_m,
+                })
+                .collect(),
+            step_length_error_mm: {
+                let l = &self.walk.lengths;
+                if l.is_empty() {
+                    0.0
+                } else {
+                    l.iter().map(|[p, w]| (w - p).abs()).sum::<f64>() / l.len() as f64 * 1e3
+                }
+            },
             upper_body: per_joint,
         })
     }
