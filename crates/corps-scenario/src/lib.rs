@@ -26,6 +26,7 @@ pub mod dynamic_filter;
 pub mod error;
 pub mod estimation;
 pub mod foot;
+pub mod footsteps;
 pub mod gains;
 mod gait;
 pub mod identify;

@@ -69,6 +69,8 @@ pub struct Scenario {
     pub human: Option<crate::conav::HumanSection>,
     /// `[mocap]`: the operator a teleoperation controller follows.
     pub mocap: Option<crate::mocap::MocapSection>,
+    /// `[footsteps]`: steps a teleoperation controller walks on its own.
+    pub footsteps: Option<crate::footsteps::FootstepsSection>,
 }
 
 fn completed() -> Verdict {

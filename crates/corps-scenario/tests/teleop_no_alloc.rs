@@ -35,7 +35,7 @@ fn a_teleoperation_tick_does_not_allocate() {
     let frames = operator.clip.frames();
     let frame_time = operator.clip.frame_time;
     let q = robot.posture.clone();
-    let mut c = TeleopVelocityController::new(&robot, config, dt, &q, operator).unwrap();
+    let mut c = TeleopVelocityController::new(&robot, config, dt, &q, Some(operator), &[]).unwrap();
     let mut weight = Wrench::default();
     weight.force.z = 150.0;
     let measured = Measured {

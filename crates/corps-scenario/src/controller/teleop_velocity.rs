@@ -9,7 +9,8 @@
 //!
 //! The operator's steps, detected and normalised by [`StepDetector`], are walked by the state
 //! machine of Fig 6.6 ([`super::teleop_walk`]): the swing foot's and the CoM's references move,
-//! the waist holds its standing height while walking. A feed that stops holds its last
+//! the waist holds its standing height while walking. Without an operator the robot walks the
+//! scenario's `[footsteps]`, its upper body at rest (Fig 6.6's autonomous walking). A feed that stops holds its last
 //! references (the robot finishes the steps it was given and rests in double support).
 
 use super::teleop_walk::{PlannedStep, TeleopWalk, WalkReferences, WalkingSpec};
@@ -134,9 +135,9 @@ pub struct TeleopVelocityController {
     q_des: DVector<f64>,
     v_des: DVector<f64>,
     command: Command,
-    operator: Operator,
-    retargeter: Retargeter,
-    steps: StepDetector,
+    /// The operator followed, if any (else the robot walks its scripted steps, the upper body
+    /// held at its rest posture: Fig 6.6's autonomous walking).
+    following: Option<Following>,
     joints: Vec<MappedJoint>,
     operator_angles: Vec<f64>,
     robot_angles: Vec<f64>,
@@ -167,39 +168,32 @@ pub struct TeleopVelocityController {
     sway_damping: f64,
 }
 
+/// An operator, their retargeting and their steps.
+struct Following {
+    operator: Operator,
+    retargeter: Retargeter,
+    steps: StepDetector,
+}
+
 const FEET: [&str; 2] = ["foot_left", "foot_right"];
 
 impl TeleopVelocityController {
-    /// The stack for `robot` standing at `q`, following `operator`.
+    /// The stack for `robot` standing at `q`, following `operator` if given, and walking
+    /// `footsteps` (each in the robot's own directions at the start: x forward, y left).
     pub fn new(
         robot: &Robot,
         config: TeleopVelocityConfig,
         dt: f64,
         q: &DVector<f64>,
-        operator: Operator,
+        operator: Option<Operator>,
+        footsteps: &[PlannedStep],
     ) -> Result<Self> {
         config.check()?;
         let model = robot.model.clone();
-        let mapped = operator
-            .mapping
-            .robot()
-            .map_err(|e| invalid!("mocap.mapping: {e}"))?;
-        if mapped.model.nq != model.nq
-            || (mapped.model.joints.iter().zip(&model.joints)).any(|(a, b)| a.name != b.name)
-        {
-            return Err(invalid!(
-                "mocap.mapping: maps onto robot '{}', the scenario runs '{}' (another model)",
-                mapped.name,
-                robot.name
-            ));
-        }
-        let skeleton = Skeleton::new(&operator.clip, operator.mapping.units());
-        let rest = (operator.mapping)
-            .rest_pose(&skeleton, &operator.clip)
-            .map_err(|e| invalid!("mocap.mapping: {e}"))?;
-        let retargeter = Retargeter::new(&operator.mapping, robot, &skeleton, &rest)
-            .map_err(|e| invalid!("mocap: {e}"))?;
-        let steps = StepDetector::new(&operator.mapping.spec.steps, retargeter.feet(&rest));
+        let following = match operator {
+            Some(operator) => Some(Self::follow_operator(robot, operator)?),
+            None => None,
+        };
 
         let mut state = RobotState::new(&model);
         let v0 = DVector::zeros(model.nv);
@@ -245,7 +239,10 @@ impl TeleopVelocityController {
             reference(robot.base)?,
         )?;
         ik.add_task("waist", 1, w.com, waist)?;
-        let (neck, neck_rotation) = match &operator.mapping.spec.neck_frame {
+        let neck_frame = following
+            .as_ref()
+            .and_then(|f| f.operator.mapping.spec.neck_frame.clone());
+        let (neck, neck_rotation) = match &neck_frame {
             Some(name) => {
                 let id = model.frame_id(name).map_err(|_| {
                     invalid!(
@@ -270,10 +267,26 @@ impl TeleopVelocityController {
         let mut kp = DVector::zeros(na);
         let first = model.first_actuated();
         let mut actuated = Vec::new();
-        for j in &retargeter.joints {
+        let joints = following
+            .as_ref()
+            .map(|f| f.retargeter.joints.clone())
+            .unwrap_or_default();
+        for j in &joints {
             let iv = model.joints[model.joint_id(&j.name)?].idx_v;
             kp[iv - first] = g.posture;
             actuated.push(iv - first);
+        }
+        if following.is_none() {
+            // No operator: the upper body (every joint off the legs) holds its rest posture.
+            let legs: Vec<usize> = [left.frame, right.frame]
+                .iter()
+                .flat_map(|&f| super::soft_tasks::stance_ik::chain_to(&model, f))
+                .collect();
+            for (j, joint) in model.joints.iter().enumerate() {
+                if joint.nv() == 1 && joint.idx_v >= first && !legs.contains(&j) {
+                    kp[joint.idx_v - first] = g.posture;
+                }
+            }
         }
         let posture = PostureVelocityTask::new(&model, kp, robot.posture.clone())?;
         ik.add_task("posture", 1, w.posture, posture)?;
@@ -286,17 +299,23 @@ impl TeleopVelocityController {
             .z
             .min(feet0[1].placement.translation.z);
         let waist_z = state.frame_placement(&model, robot.base)?.translation.z;
-        let joints = retargeter.joints.clone();
         let n = joints.len();
         let soles = feet0.map(|f| f.placement.translation);
         let lateral = (soles[0] - soles[1]).xy();
         let lateral = lateral.try_normalize(1e-9).unwrap_or_else(Vector2::y);
         let heading = [Vector2::new(lateral.y, -lateral.x), lateral];
-        let walk = TeleopWalk::new(
+        let mut walk = TeleopWalk::new(
             config.walking.clone(),
             soles,
             Vector3::new(mid.x, mid.y, 0.0),
         );
+        for step in footsteps {
+            let [forward, left] = heading;
+            walk.push(PlannedStep {
+                travel: forward * step.travel.x + left * step.travel.y,
+                ..*step
+            });
+        }
         let walk_references = walk.references(0.0);
         // The free-flyer's configuration (none for a fixed base).
         let base_len = if model.has_free_flyer() { 7 } else { 0 };
@@ -312,9 +331,7 @@ impl TeleopVelocityController {
                 q_ref: q.clone(),
                 v_ref: DVector::zeros(na),
             },
-            operator,
-            retargeter,
-            steps,
+            following,
             joints,
             operator_angles: vec![0.0; n],
             robot_angles: vec![0.0; n],
@@ -342,9 +359,43 @@ impl TeleopVelocityController {
         })
     }
 
-    /// Reads the operator and sets the tasks' references.
-    fn follow(&mut self, t: f64, measured: &super::Measured) -> Result<(), ControlError> {
-        let (pose, feed) = self.operator.source.poll(t);
+    /// `operator` retargeted onto `robot` (the mapping's robot must be the same model).
+    fn follow_operator(robot: &Robot, operator: Operator) -> Result<Following> {
+        let model = &robot.model;
+        let mapped = operator
+            .mapping
+            .robot()
+            .map_err(|e| invalid!("mocap.mapping: {e}"))?;
+        if mapped.model.nq != model.nq
+            || (mapped.model.joints.iter().zip(&model.joints)).any(|(a, b)| a.name != b.name)
+        {
+            return Err(invalid!(
+                "mocap.mapping: maps onto robot '{}', the scenario runs '{}' (another model)",
+                mapped.name,
+                robot.name
+            ));
+        }
+        let skeleton = Skeleton::new(&operator.clip, operator.mapping.units());
+        let rest = (operator.mapping)
+            .rest_pose(&skeleton, &operator.clip)
+            .map_err(|e| invalid!("mocap.mapping: {e}"))?;
+        let retargeter = Retargeter::new(&operator.mapping, robot, &skeleton, &rest)
+            .map_err(|e| invalid!("mocap: {e}"))?;
+        let steps = StepDetector::new(&operator.mapping.spec.steps, retargeter.feet(&rest));
+        Ok(Following {
+            operator,
+            retargeter,
+            steps,
+        })
+    }
+
+    /// Reads the operator, if any: the upper body's, waist's and neck's references and the
+    /// operator's steps.
+    fn read_operator(&mut self, t: f64) -> Result<(), ControlError> {
+        let Some(f) = &mut self.following else {
+            return Ok(());
+        };
+        let (pose, feed) = f.operator.source.poll(t);
         match feed {
             // The pose of the last tick (the operator's rate is below the control's): the
             // references stand; a held pose stops the feed-forward.
@@ -355,11 +406,8 @@ impl TeleopVelocityController {
             }
             Feed::Live | Feed::Holding { .. } => {
                 self.previous.copy_from_slice(&self.robot_angles);
-                self.retargeter.joints_into(
-                    pose,
-                    &mut self.operator_angles,
-                    &mut self.robot_angles,
-                );
+                f.retargeter
+                    .joints_into(pose, &mut self.operator_angles, &mut self.robot_angles);
                 match self.pose_time {
                     Some(before) if pose.time > before && feed == Feed::Live => {
                         // Frames closer than a control period (a jittery stream) count as one period apart.
@@ -375,8 +423,8 @@ impl TeleopVelocityController {
                 for (j, v) in self.joints.iter().zip(&self.robot_angles) {
                     self.q_ref[j.q_index] = *v;
                 }
-                self.waist_z = self.sole_z + self.retargeter.waist_height(pose);
-                for step in self.steps.update(pose.time, self.retargeter.feet(pose)) {
+                self.waist_z = self.sole_z + f.retargeter.waist_height(pose);
+                for step in f.steps.update(pose.time, f.retargeter.feet(pose)) {
                     let Some(step) = step else { continue };
                     let [forward, left] = self.heading;
                     self.walk.push(PlannedStep {
@@ -398,6 +446,12 @@ impl TeleopVelocityController {
                 self.v_ref.fill(0.0);
             }
         }
+        Ok(())
+    }
+
+    /// Reads the operator and the walk, and sets the tasks' references.
+    fn follow(&mut self, t: f64, measured: &super::Measured) -> Result<(), ControlError> {
+        self.read_operator(t)?;
         let posture = self.ik.task_mut::<PostureVelocityTask>("posture")?;
         posture.q_ref.copy_from(&self.q_ref);
         posture.v_ref.copy_from(&self.v_ref);
@@ -547,12 +601,12 @@ impl WholeBodyController for TeleopVelocityController {
                 joint: j.name.clone(),
                 rms_deg: (s.square_sum[i] / n).sqrt(),
                 max_deg: s.max[i],
-                clipped_frames: self.retargeter.clipped[i],
+                clipped_frames: (self.following.as_ref()).map_or(0, |f| f.retargeter.clipped[i]),
             })
             .collect();
         let all: f64 = s.square_sum.iter().sum::<f64>() / (n * self.joints.len().max(1) as f64);
         Some(crate::metrics::TeleopMetrics {
-            operator_steps: self.steps.count,
+            operator_steps: self.following.as_ref().map_or(0, |f| f.steps.count),
             robot_steps: s.robot_steps,
             upper_body_rms_deg: all.sqrt(),
             upper_body_max_deg: s.max.iter().copied().fold(0.0, f64::max),

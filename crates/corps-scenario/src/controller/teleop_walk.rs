@@ -409,6 +409,13 @@ impl TeleopWalk {
                             let walked = (sole(k) - self.lifted_from).xy().norm();
                             self.lengths.push([step.travel.norm(), walked]);
                         }
+                        // Both soles loaded: the landed sole's reference goes back to the
+                        // height planned for it (it stopped where it first touched, above
+                        // that while the stance leg bent under the robot's weight), so the
+                        // model's soles stay level with the ground's.
+                        let mut level = self.target;
+                        level.z = self.planned_z;
+                        self.move_foot(t, k, level);
                         self.step = None;
                         self.state = WalkState::WalkingDoubleSupport;
                     }

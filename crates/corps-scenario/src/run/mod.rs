@@ -272,15 +272,22 @@ impl ScenarioRun {
             ControllerKind::TeleopVelocity => {
                 let g: controller::teleop_velocity::TeleopVelocityConfig =
                     gains::load(&source, &section.set).context("controller.gains")?;
-                let Some(mocap) = &scenario.mocap else {
-                    bail!("mocap: the teleop_velocity controller follows an operator: add a [mocap] section");
+                let footsteps = match &scenario.footsteps {
+                    Some(f) => f.steps()?,
+                    None => Vec::new(),
                 };
+                if scenario.mocap.is_none() && footsteps.is_empty() {
+                    bail!("mocap: the teleop_velocity controller follows an operator or walks footsteps: add a [mocap] or a [footsteps] section");
+                }
                 if press.is_some() {
                     bail!("press: the teleoperation controller has no force task");
                 }
-                let operator = mocap.open(base_dir)?;
+                let operator = match &scenario.mocap {
+                    Some(mocap) => Some(mocap.open(base_dir)?),
+                    None => None,
+                };
                 let inner = controller::teleop_velocity::TeleopVelocityController::new(
-                    &robot, g, dt, &q, operator,
+                    &robot, g, dt, &q, operator, &footsteps,
                 )
                 .context("controller")?;
                 (

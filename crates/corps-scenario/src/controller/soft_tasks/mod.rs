@@ -19,7 +19,7 @@ pub mod fsm;
 mod posture_law;
 mod report;
 mod smoothing;
-mod stance_ik;
+pub(crate) mod stance_ik;
 mod state_gains;
 
 pub use config::SoftTasksConfig;
