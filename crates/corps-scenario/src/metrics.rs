@@ -516,7 +516,10 @@ pub struct TeleopMetrics {
     pub feed_lost_ticks: usize,
     /// Steps the walking state machine made to the end (Fig 6.6's swap of the feet).
     pub steps_walked: usize,
-    /// Each step made: its planned length (Eq 6.6–6.7) and the measured one (m).
+    /// Steps never walked: the queue of pending steps was full (or a step was not valid).
+    pub steps_dropped: usize,
+    /// Each step made: its planned length (Eq 6.6–6.7, or the scenario's footsteps) and the
+    /// measured one (m).
     pub step_lengths: Vec<StepLength>,
     /// Mean |measured − planned| step length (mm); 0 without a step.
     pub step_length_error_mm: f64,
@@ -656,10 +659,11 @@ impl fmt::Display for Metrics {
         if let Some(t) = &self.teleop {
             writeln!(
                 f,
-                "  teleoperation: operator steps {}, robot steps {} (F/T), {} walked (step length error {:.1} mm); upper body vs retargeted references RMS {:.2}°, max {:.2}°; {} ticks with a joint past its limits; {} ticks without a live pose",
+                "  teleoperation: operator steps {}, robot steps {} (F/T), {} walked, {} dropped (step length error {:.1} mm); upper body vs retargeted references RMS {:.2}°, max {:.2}°; {} ticks with a joint past its limits; {} ticks without a live pose",
                 t.operator_steps,
                 t.robot_steps,
                 t.steps_walked,
+                t.steps_dropped,
                 t.step_length_error_mm,
                 t.upper_body_rms_deg,
                 t.upper_body_max_deg,

@@ -1,7 +1,8 @@
 //! The teleoperation controller's tick — the operator's pose, its retargeting, the tasks'
 //! references, the two-layer HQP and its integration — allocates nothing once set up
-//! (counting global allocator, per thread): iCub following a shared clip of a person (read in
-//! place), the feet loaded, for the whole clip.
+//! (counting global allocator, per thread): iCub following shared clips of a person (read in
+//! place) — raising the hands, and walking (its steps queued for the walking state machine
+//! inside the tick) — the feet loaded, for the whole clip.
 
 use corps_control::stabilizer::Wrench;
 use corps_scenario::controller::teleop_velocity::{TeleopVelocityConfig, TeleopVelocityController};
@@ -23,7 +24,13 @@ fn repo(rel: &str) -> PathBuf {
 
 #[test]
 fn a_teleoperation_tick_does_not_allocate() {
-    let path = repo("scenarios/teleop/icub_raise_hands.toml");
+    for clip in ["icub_raise_hands", "icub_walk"] {
+        ticks_without_allocation(&format!("scenarios/teleop/{clip}.toml"));
+    }
+}
+
+fn ticks_without_allocation(file: &str) {
+    let path = repo(file);
     let scenario = Scenario::parse(&std::fs::read_to_string(&path).unwrap()).unwrap();
     let dir = path.parent().unwrap();
     let operator = scenario.mocap.as_ref().unwrap().open(dir).unwrap();
@@ -62,7 +69,14 @@ fn a_teleoperation_tick_does_not_allocate() {
         assert!(r.is_none(), "{r:?}");
     }
     let n = allocations() - before;
-    assert_eq!(n, 0, "{n} heap allocations in {} ticks", ticks - 3);
+    assert_eq!(n, 0, "{file}: {n} heap allocations in {} ticks", ticks - 3);
+    if file.contains("walk") {
+        let steps = c.teleop_metrics().unwrap().operator_steps;
+        assert!(
+            steps > 0,
+            "{file}: the operator's steps were queued in the tick"
+        );
+    }
 }
 
 /// The walking state machine (Fig 6.6) through every state of 30 steps, on a robot that follows

@@ -9,8 +9,9 @@
 //!
 //! The operator's steps, detected and normalised by [`StepDetector`], are walked by the state
 //! machine of Fig 6.6 ([`super::teleop_walk`]): the swing foot's and the CoM's references move,
-//! the waist holds its standing height while walking. Without an operator the robot walks the
-//! scenario's `[footsteps]`, its upper body at rest (Fig 6.6's autonomous walking). A feed that stops holds its last
+//! the waist holds its standing height while walking. The scenario's `[footsteps]` are queued
+//! first; without an operator the robot walks them with its upper body at rest (Fig 6.6's
+//! autonomous walking). A feed that stops holds its last
 //! references (the robot finishes the steps it was given and rests in double support).
 
 use super::teleop_walk::{PlannedStep, TeleopWalk, WalkReferences, WalkingSpec};
@@ -613,6 +614,7 @@ impl WholeBodyController for TeleopVelocityController {
             joint_limit_violations: s.limit_violations,
             feed_lost_ticks: s.lost_ticks,
             steps_walked: self.walk.steps_done,
+            steps_dropped: self.walk.dropped,
             step_lengths: (self.walk.lengths.iter())
                 .map(|&[planned_m, walked_m]| crate::metrics::StepLength {
                     planned_m,

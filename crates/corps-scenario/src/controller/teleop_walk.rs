@@ -4,9 +4,11 @@
 //! - i. walking double support: the CoM's ground projection goes to mid-feet; with a step
 //!   pending, once the measured CoM is within `e_com` of its target, → ii;
 //! - ii. liftoff: the CoM goes over the stance sole; once within `e_com`, the swing foot rises
-//!   to the step's height and half its length; reached (within `e_foot`), → iii;
-//! - iii. touchdown: the swing foot goes down to its target; once within `e_foot`, the CoM goes
-//!   back to mid-feet; with the CoM within `e_com`, the foot within `e_foot` and its sole
+//!   to the step's height and half its length; reached (within `e_foot`) and seen unloaded
+//!   (below `f_contact`: off the ground), → iii;
+//! - iii. touchdown: the swing foot goes down to its target; once it touches (loaded past
+//!   `f_contact`; ours, where the thesis waits for `e_foot`), the CoM goes back to mid-feet;
+//!   with the CoM within `e_com`, the foot within `e_foot` of where it touched and its sole
 //!   loaded past `f_touchdown`, the feet swap roles → i.
 //!
 //! With no step pending, i ends in the teleoperation double support (2a). Every reference moves
@@ -126,11 +128,12 @@ struct Segment {
 }
 
 impl Segment {
+    /// At `at`, and already done.
     fn hold(at: Vector3<f64>) -> Segment {
         Segment {
             from: at,
             to: at,
-            start: 0.0,
+            start: f64::NEG_INFINITY,
             duration: 1.0,
         }
     }
@@ -191,13 +194,16 @@ pub struct TeleopWalk {
     len: usize,
     /// Steps made to the end (the feet swapped roles).
     pub steps_done: usize,
-    /// Steps dropped because the queue was full.
+    /// Steps dropped: the queue was full, or the step was not valid.
     pub dropped: usize,
-    /// Each step made: the planned horizontal length (Eq 6.6–6.7) and the measured one (the
+    /// Each step made: the planned horizontal length (Eq 6.6–6.7, or the scenario's footsteps)
+    /// and the measured one (the
     /// sole from liftoff to the swap), up to [`MAX_RECORDED`] steps.
     pub lengths: Vec<[f64; 2]>,
-    /// The swing sole (measured) when the step began.
+    /// The swing sole (measured) when the step began, and whether it has been seen off the
+    /// ground (below `f_contact`) since.
     lifted_from: Vector3<f64>,
+    unloaded: bool,
     /// The time of the last update.
     last: f64,
 }
@@ -221,6 +227,7 @@ impl TeleopWalk {
             dropped: 0,
             lengths: Vec::with_capacity(MAX_RECORDED),
             lifted_from: Vector3::zeros(),
+            unloaded: false,
             last: 0.0,
         }
     }
@@ -230,9 +237,11 @@ impl TeleopWalk {
         self.len
     }
 
-    /// Queues a step (dropped and counted if the queue is full).
+    /// Queues a step (dropped and counted if the queue is full, or if the step names no foot
+    /// or is not finite).
     pub fn push(&mut self, step: PlannedStep) {
-        if self.len == MAX_PENDING {
+        let finite = step.travel.iter().all(|x| x.is_finite()) && step.height.is_finite();
+        if self.len == MAX_PENDING || step.foot > 1 || !finite {
             self.dropped += 1;
             return;
         }
@@ -362,6 +371,7 @@ impl TeleopWalk {
                         self.target = from + travel;
                         self.planned_z = self.target.z;
                         self.lifted_from = sole(k);
+                        self.unloaded = false;
                         self.move_foot(t, k, from + travel / 2.0 + Vector3::z() * step.height);
                         if self.short(&step) {
                             self.move_waist(t, -self.spec.waist_drop);
@@ -372,7 +382,8 @@ impl TeleopWalk {
             }
             WalkState::Liftoff => {
                 if let Some(step) = self.step {
-                    if foot_reached(&self.feet[step.foot], step.foot) {
+                    self.unloaded |= forces[step.foot] < self.spec.f_contact;
+                    if self.unloaded && foot_reached(&self.feet[step.foot], step.foot) {
                         self.move_foot(t, step.foot, self.target);
                         self.state = WalkState::Touchdown;
                     }
@@ -410,9 +421,10 @@ impl TeleopWalk {
                             self.lengths.push([step.travel.norm(), walked]);
                         }
                         // Both soles loaded: the landed sole's reference goes back to the
-                        // height planned for it (it stopped where it first touched, above
-                        // that while the stance leg bent under the robot's weight), so the
-                        // model's soles stay level with the ground's.
+                        // height planned for it — from above, where it first touched while
+                        // the stance leg bent under the robot's weight, or from below, where
+                        // it searched for the ground — so that, the load shared, the model's
+                        // soles stay level with the ground's (both feet stay on it).
                         let mut level = self.target;
                         level.z = self.planned_z;
                         self.move_foot(t, k, level);
@@ -511,6 +523,42 @@ mod tests {
         assert!((planned - 0.1).abs() < 1e-12 && (walked - 0.1).abs() < 1e-3);
         assert!((r.feet[0] - Vector3::new(0.1, 0.07, 0.0)).norm() < 1e-3);
         assert!((r.com - Vector3::new(0.05, 0.0, 0.0)).norm() < 1e-3);
+    }
+
+    #[test]
+    fn a_sole_that_never_leaves_the_ground_never_ends_its_liftoff() {
+        let feet = [Vector3::new(0.0, 0.07, 0.0), Vector3::new(0.0, -0.07, 0.0)];
+        let mut walk = TeleopWalk::new(spec(), feet, Vector3::zeros());
+        walk.push(PlannedStep {
+            foot: 0,
+            travel: Vector2::zeros(),
+            height: 0.01,
+        });
+        let mut r = walk.references(0.0);
+        for k in 0..2000 {
+            let soles = r.feet.map(|p| Isometry3::translation(p.x, p.y, p.z));
+            // The sole rises 1 cm (within e_foot of its apex) but stays loaded: still on the
+            // ground as far as its F/T sensor tells.
+            r = walk.update(k as f64 * 0.01, &r.com, &soles, [160.0; 2]);
+        }
+        assert_eq!(walk.state, WalkState::Liftoff);
+        assert_eq!(walk.steps_done, 0);
+        // A step naming no foot, or not finite, is refused and counted.
+        for step in [
+            PlannedStep {
+                foot: 2,
+                travel: Vector2::zeros(),
+                height: 0.0,
+            },
+            PlannedStep {
+                foot: 0,
+                travel: Vector2::new(f64::NAN, 0.0),
+                height: 0.0,
+            },
+        ] {
+            walk.push(step);
+        }
+        assert_eq!((walk.pending(), walk.dropped), (0, 2));
     }
 
     #[test]

@@ -215,6 +215,12 @@ impl ScenarioRun {
             None => (sim.q().clone_owned(), sim.v().clone_owned()),
         };
         let mass = model.total_mass();
+        if scenario.footsteps.is_some() && section.kind != ControllerKind::TeleopVelocity {
+            bail!(
+                "footsteps: scripted footsteps are walked by the teleop_velocity controller, not '{}'",
+                section.kind.name()
+            );
+        }
         if scenario.mocap.is_some() && section.kind != ControllerKind::TeleopVelocity {
             bail!(
                 "mocap: an operator is followed by the teleop_velocity controller, not '{}'",
