@@ -11,13 +11,12 @@
 //! machine of Fig 6.6 ([`super::teleop_walk`]): the swing foot's and the CoM's references move,
 //! the waist holds its standing height while walking. The scenario's `[footsteps]` are queued
 //! first; without an operator the robot walks them with its upper body at rest (Fig 6.6's
-//! autonomous walking). A feed that stops holds its last
-//! references (the robot finishes the steps it was given and rests in double support).
+//! autonomous walking). A feed that stops holds its last references (the robot finishes the
+//! steps it was given and rests in double support).
 
 use super::teleop_walk::{PlannedStep, TeleopWalk, WalkReferences, WalkingSpec};
 use super::WholeBodyController;
 use crate::error::{invalid, Result};
-
 use crate::mocap::Operator;
 use crate::targets::Targets;
 use corps_control::formulation::InverseKinematics;
@@ -115,17 +114,13 @@ struct Stats {
     samples: usize,
     limit_violations: usize,
     lost_ticks: usize,
-    /// The robot's steps as its feet's F/T sensors see them: a foot unloaded below
-    /// [`UNLOADED`], then loaded past Table 6.2's F_touchdown ([`TOUCHDOWN`]) at least
+    /// The robot's steps as its feet's F/T sensors see them: a foot unloaded below the walk's
+    /// `f_contact`, then loaded past Table 6.2's F_touchdown (`f_touchdown`) at least
     /// [`STEP_TRAVEL`] from where it lifted.
     robot_steps: usize,
     lifted_at: [Option<Vector3<f64>>; 2],
 }
 
-/// A foot carrying less than this (N) is off the ground.
-pub const UNLOADED: f64 = 20.0;
-/// Seed 001 Table 6.2's F_touchdown (N).
-pub const TOUCHDOWN: f64 = 80.0;
 /// A foot that lands this far (m) from where it lifted has stepped.
 pub const STEP_TRAVEL: f64 = 0.01;
 
@@ -177,6 +172,12 @@ struct Following {
 }
 
 const FEET: [&str; 2] = ["foot_left", "foot_right"];
+
+/// A horizontal travel given in the robot's directions at the start (`heading`: forward, left),
+/// in the world.
+fn in_world(heading: [Vector2<f64>; 2], travel: Vector2<f64>) -> Vector2<f64> {
+    heading[0] * travel.x + heading[1] * travel.y
+}
 
 impl TeleopVelocityController {
     /// The stack for `robot` standing at `q`, following `operator` if given, and walking
@@ -311,9 +312,8 @@ impl TeleopVelocityController {
             Vector3::new(mid.x, mid.y, 0.0),
         );
         for step in footsteps {
-            let [forward, left] = heading;
             walk.push(PlannedStep {
-                travel: forward * step.travel.x + left * step.travel.y,
+                travel: in_world(heading, step.travel),
                 ..*step
             });
         }
@@ -427,10 +427,9 @@ impl TeleopVelocityController {
                 self.waist_z = self.sole_z + f.retargeter.waist_height(pose);
                 for step in f.steps.update(pose.time, f.retargeter.feet(pose)) {
                     let Some(step) = step else { continue };
-                    let [forward, left] = self.heading;
                     self.walk.push(PlannedStep {
                         foot: step.foot,
-                        travel: forward * step.robot_travel.x + left * step.robot_travel.y,
+                        travel: in_world(self.heading, step.robot_travel.xy()),
                         height: step.robot_height,
                     });
                 }
@@ -497,12 +496,13 @@ impl TeleopVelocityController {
     /// The measured upper body against the retargeted references, the joint limits, and the
     /// robot's steps.
     fn record(&mut self, q: &[f64], measured: &super::Measured) {
+        let (unloaded, touchdown) = (self.walk.spec().f_contact, self.walk.spec().f_touchdown);
         for k in 0..2 {
             let fz = measured.foot_wrenches[k].force.z;
             let at = measured.feet[k].translation.vector;
             match self.stats.lifted_at[k] {
-                None if fz < UNLOADED => self.stats.lifted_at[k] = Some(at),
-                Some(from) if fz > TOUCHDOWN => {
+                None if fz < unloaded => self.stats.lifted_at[k] = Some(at),
+                Some(from) if fz > touchdown => {
                     if (at - from).xy().norm() >= STEP_TRAVEL {
                         self.stats.robot_steps += 1;
                     }

@@ -232,6 +232,11 @@ impl TeleopWalk {
         }
     }
 
+    /// Its thresholds and timings.
+    pub fn spec(&self) -> &WalkingSpec {
+        &self.spec
+    }
+
     /// Steps waiting to be made.
     pub fn pending(&self) -> usize {
         self.len
