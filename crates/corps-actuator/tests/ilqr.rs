@@ -9,7 +9,7 @@ use corps_actuator::current_ocp::CurrentLimitingOcp;
 use corps_actuator::elbow::Payload;
 use corps_actuator::ilqr::{Ilqr, IlqrSettings};
 use corps_ocp::{ActionDerivatives, ActionModel, Ddp, DdpSettings, TerminalCost};
-use nalgebra::{DMatrix, DVector, Vector2};
+use nalgebra::{Matrix2, Vector1, Vector2};
 
 fn ocp(payload_kg: f64, barrier: bool) -> CurrentLimitingOcp {
     let d = common::elbow();
@@ -144,40 +144,32 @@ struct Generic<'a> {
     xr: Vector2<f64>,
 }
 
-impl ActionModel for Generic<'_> {
-    fn nx(&self) -> usize {
-        2
-    }
-    fn nu(&self) -> usize {
-        1
-    }
-    fn calc(&self, x: &DVector<f64>, u: &DVector<f64>, next: &mut DVector<f64>) -> f64 {
-        let (c, n) = self.p.running(&Vector2::new(x[0], x[1]), u[0], &self.xr);
-        next.copy_from_slice(n.as_slice());
+impl ActionModel<2, 1> for Generic<'_> {
+    fn calc(&self, x: &Vector2<f64>, u: &Vector1<f64>, next: &mut Vector2<f64>) -> f64 {
+        let (c, n) = self.p.running(x, u[0], &self.xr);
+        *next = n;
         c
     }
-    fn calc_diff(&self, x: &DVector<f64>, u: &DVector<f64>, d: &mut ActionDerivatives) {
-        let n = self
-            .p
-            .running_diff(&Vector2::new(x[0], x[1]), u[0], &self.xr);
-        d.fx = DMatrix::from_column_slice(2, 2, n.fx.as_slice());
-        d.fu = DMatrix::from_column_slice(2, 1, n.fu.as_slice());
-        d.lx = DVector::from_column_slice(n.lx.as_slice());
-        d.lxx = DMatrix::from_column_slice(2, 2, n.lxx.as_slice());
-        d.lu = DVector::from_element(1, n.lu);
-        d.luu = DMatrix::from_element(1, 1, n.luu);
-        d.lxu = DMatrix::zeros(2, 1);
+    fn calc_diff(&self, x: &Vector2<f64>, u: &Vector1<f64>, d: &mut ActionDerivatives<2, 1>) {
+        let n = self.p.running_diff(x, u[0], &self.xr);
+        d.fx = n.fx;
+        d.fu = n.fu;
+        d.lx = n.lx;
+        d.lxx = n.lxx;
+        d.lu = Vector1::new(n.lu);
+        d.luu = Vector1::new(n.luu);
+        d.lxu = Vector2::zeros();
     }
 }
 
-impl TerminalCost for Generic<'_> {
-    fn cost(&self, x: &DVector<f64>) -> f64 {
-        self.p.terminal(&Vector2::new(x[0], x[1]), &self.xr)
+impl TerminalCost<2> for Generic<'_> {
+    fn cost(&self, x: &Vector2<f64>) -> f64 {
+        self.p.terminal(x, &self.xr)
     }
-    fn diff(&self, x: &DVector<f64>, lx: &mut DVector<f64>, lxx: &mut DMatrix<f64>) {
-        let (g, h) = self.p.terminal_diff(&Vector2::new(x[0], x[1]), &self.xr);
-        *lx = DVector::from_column_slice(g.as_slice());
-        *lxx = DMatrix::from_column_slice(2, 2, h.as_slice());
+    fn diff(&self, x: &Vector2<f64>, lx: &mut Vector2<f64>, lxx: &mut Matrix2<f64>) {
+        let (g, h) = self.p.terminal_diff(x, &self.xr);
+        *lx = g;
+        *lxx = h;
     }
 }
 
@@ -191,21 +183,14 @@ fn the_optimum_is_the_generic_ddps() {
         p: &p,
         xr: Vector2::new(target[0], target[1]),
     };
-    let running: Vec<&dyn ActionModel> = vec![&node; 100];
-    let us0 = vec![DVector::from_element(1, -2.0); 100];
+    let running: Vec<&dyn ActionModel<2, 1>> = vec![&node; 100];
+    let us0 = vec![Vector1::new(-2.0); 100];
     let settings = DdpSettings {
         max_iterations: 500,
         stop: 1e-18,
         ..DdpSettings::default()
     };
-    let generic = Ddp::solve(
-        &DVector::from_column_slice(x0.as_slice()),
-        &running,
-        &node,
-        Some(&us0),
-        &settings,
-    )
-    .unwrap();
+    let generic = Ddp::solve(&x0, &running, &node, Some(&us0), &settings).unwrap();
     let worst = (0..100)
         .map(|k| (ours.us()[k] - generic.us[k][0]).abs())
         .fold(0.0, f64::max);

@@ -17,12 +17,12 @@
 //! `ddp <name> <nodes> <x0: 6> <goal: 3> <iterations> <cost>` and
 //! `predict <name> <x0: 6> <goal: 3> <nodes> <cost> <solves> <horizons solved, in order>`.
 
-use corps_ocp::human_walk::{HumanWalkEnd, HumanWalkStep, DT};
+use corps_ocp::human_walk::{HumanWalkEnd, HumanWalkStep, DT, NU, NX};
 use corps_ocp::prediction::predict;
 use corps_ocp::recorded_walks;
 use corps_ocp::{ActionModel, Ddp, DdpSettings, DdpSolution};
 use criterion::{criterion_group, criterion_main, Criterion};
-use nalgebra::DVector;
+use nalgebra::Vector6;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
@@ -31,11 +31,11 @@ use std::path::PathBuf;
 /// The predictor's window (samples), as the prediction test and the co-navigation default.
 const WINDOW: usize = 50;
 
-fn solve(x0: &[f64; 6], goal: [f64; 3], nodes: usize) -> DdpSolution {
+fn solve(x0: &[f64; 6], goal: [f64; 3], nodes: usize) -> DdpSolution<NX, NU> {
     let step = HumanWalkStep::new(goal);
     let end = HumanWalkEnd::new(goal);
-    let running: Vec<&dyn ActionModel> = vec![&step; nodes];
-    let x0 = DVector::from_column_slice(x0);
+    let running: Vec<&dyn ActionModel<NX, NU>> = vec![&step; nodes];
+    let x0 = Vector6::from_column_slice(x0);
     Ddp::solve(&x0, &running, &end, None, &DdpSettings::default()).unwrap()
 }
 

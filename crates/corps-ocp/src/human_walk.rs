@@ -12,7 +12,7 @@
 //! The derivatives are analytic here (the source takes the cost's by finite differences).
 
 use crate::ddp::{ActionDerivatives, ActionModel, TerminalCost};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{SMatrix, Vector3, Vector6};
 use std::f64::consts::PI;
 
 /// The running weights of the authors' estimation code (w₀ … w₄).
@@ -21,6 +21,9 @@ pub const RUNNING_WEIGHTS: [f64; 5] = [7.86951486, 4.00027971, 20.1459991, 1e-6,
 pub const TERMINAL_WEIGHTS: [f64; 4] = [9.98999939, 9.98999934, 0.379999984, 3.35999389];
 /// The step of the authors' running model (s).
 pub const DT: f64 = 0.1;
+/// States (x, y, θ, v_f, ω, v_o) and controls (the three accelerations).
+pub const NX: usize = 6;
+pub const NU: usize = 3;
 
 /// One step of the walking model towards `goal` = (x_g, y_g, θ_g).
 #[derive(Clone, Debug, PartialEq)]
@@ -50,7 +53,7 @@ impl HumanWalkStep {
     /// The heading error `h = atan2(y_g − y, x_g − x) − θ` and its gradient and Hessian in
     /// (x, y, θ): with `d = (x_g − x, y_g − y)`, `r² = |d|²`, `∂φ/∂x = d_y/r²`,
     /// `∂φ/∂y = −d_x/r²`, `∂²φ/∂x² = 2d_xd_y/r⁴ = −∂²φ/∂y²`, `∂²φ/∂x∂y = (d_y² − d_x²)/r⁴`.
-    fn heading(&self, x: &DVector<f64>) -> (f64, [f64; 3], [[f64; 3]; 3]) {
+    fn heading(&self, x: &Vector6<f64>) -> (f64, [f64; 3], [[f64; 3]; 3]) {
         let (dx, dy) = (self.goal[0] - x[0], self.goal[1] - x[1]);
         let r2 = (dx * dx + dy * dy).max(1e-12);
         let r4 = r2 * r2;
@@ -62,15 +65,8 @@ impl HumanWalkStep {
     }
 }
 
-impl ActionModel for HumanWalkStep {
-    fn nx(&self) -> usize {
-        6
-    }
-    fn nu(&self) -> usize {
-        3
-    }
-
-    fn calc(&self, x: &DVector<f64>, u: &DVector<f64>, next: &mut DVector<f64>) -> f64 {
+impl ActionModel<NX, NU> for HumanWalkStep {
+    fn calc(&self, x: &Vector6<f64>, u: &Vector3<f64>, next: &mut Vector6<f64>) -> f64 {
         let (c, s, dt) = (x[2].cos(), x[2].sin(), self.dt);
         next[0] = x[0] + (c * x[3] - s * x[5]) * dt;
         next[1] = x[1] + (s * x[3] + c * x[5]) * dt;
@@ -83,7 +79,7 @@ impl ActionModel for HumanWalkStep {
         w[0] + w[1] * u[0] * u[0] + w[2] * u[1] * u[1] + w[3] * u[2] * u[2] + w[4] * h * h
     }
 
-    fn calc_diff(&self, x: &DVector<f64>, u: &DVector<f64>, d: &mut ActionDerivatives) {
+    fn calc_diff(&self, x: &Vector6<f64>, u: &Vector3<f64>, d: &mut ActionDerivatives<NX, NU>) {
         let (c, s, dt) = (x[2].cos(), x[2].sin(), self.dt);
         d.fx.fill_with_identity();
         d.fx[(0, 2)] = (-s * x[3] - c * x[5]) * dt;
@@ -139,8 +135,8 @@ pub fn wrap_angle(mut a: f64) -> f64 {
     a
 }
 
-impl TerminalCost for HumanWalkEnd {
-    fn cost(&self, x: &DVector<f64>) -> f64 {
+impl TerminalCost<NX> for HumanWalkEnd {
+    fn cost(&self, x: &Vector6<f64>) -> f64 {
         let (t, g) = (&self.weights, &self.goal);
         let dth = wrap_angle(g[2] - x[2]);
         t[0] * ((g[0] - x[0]).powi(2) + (g[1] - x[1]).powi(2))
@@ -149,7 +145,7 @@ impl TerminalCost for HumanWalkEnd {
             + t[3] * x[5] * x[5]
     }
 
-    fn diff(&self, x: &DVector<f64>, lx: &mut DVector<f64>, lxx: &mut DMatrix<f64>) {
+    fn diff(&self, x: &Vector6<f64>, lx: &mut Vector6<f64>, lxx: &mut SMatrix<f64, NX, NX>) {
         let (t, g) = (&self.weights, &self.goal);
         let dth = wrap_angle(g[2] - x[2]);
         lx.fill(0.0);
@@ -170,30 +166,30 @@ impl TerminalCost for HumanWalkEnd {
 mod tests {
     use super::*;
 
-    fn x() -> DVector<f64> {
-        DVector::from_vec(vec![-2.0, 1.3, -0.4, 0.8, 0.2, -0.1])
+    fn x() -> Vector6<f64> {
+        Vector6::new(-2.0, 1.3, -0.4, 0.8, 0.2, -0.1)
     }
 
     /// The analytic derivatives against central finite differences.
     #[test]
     fn derivatives_match_finite_differences() {
         let m = HumanWalkStep::new([0.5, -0.3, 1.2]);
-        let (x0, u0) = (x(), DVector::from_vec(vec![0.3, -0.7, 0.1]));
-        let mut d = ActionDerivatives::zeros(6, 3);
+        let (x0, u0) = (x(), Vector3::new(0.3, -0.7, 0.1));
+        let mut d = ActionDerivatives::default();
         m.calc_diff(&x0, &u0, &mut d);
         let h = 1e-6;
-        let eval = |x: &DVector<f64>, u: &DVector<f64>| {
-            let mut next = DVector::zeros(6);
+        let eval = |x: &Vector6<f64>, u: &Vector3<f64>| {
+            let mut next = Vector6::zeros();
             let c = m.calc(x, u, &mut next);
             (next, c)
         };
-        let grad = |x: &DVector<f64>, u: &DVector<f64>| {
-            let mut d = ActionDerivatives::zeros(6, 3);
+        let grad = |x: &Vector6<f64>, u: &Vector3<f64>| {
+            let mut d = ActionDerivatives::default();
             m.calc_diff(x, u, &mut d);
             d.lx
         };
         for i in 0..6 {
-            let (mut xp, mut xm) = (x0.clone(), x0.clone());
+            let (mut xp, mut xm) = (x0, x0);
             xp[i] += h;
             xm[i] -= h;
             let ((np, cp), (nm, cm)) = (eval(&xp, &u0), eval(&xm, &u0));
@@ -204,7 +200,7 @@ mod tests {
             assert!((hess_col - d.lxx.column(i)).norm() < 1e-5, "Lxx column {i}");
         }
         for i in 0..3 {
-            let (mut up, mut um) = (u0.clone(), u0.clone());
+            let (mut up, mut um) = (u0, u0);
             up[i] += h;
             um[i] -= h;
             let ((np, cp), (nm, cm)) = (eval(&x0, &up), eval(&x0, &um));
@@ -212,10 +208,10 @@ mod tests {
             assert!(((cp - cm) / (2.0 * h) - d.lu[i]).abs() < 1e-6);
         }
         let end = HumanWalkEnd::new([0.5, -0.3, 1.2]);
-        let (mut lx, mut lxx) = (DVector::zeros(6), DMatrix::zeros(6, 6));
+        let (mut lx, mut lxx) = (Vector6::zeros(), SMatrix::zeros());
         end.diff(&x0, &mut lx, &mut lxx);
         for i in 0..6 {
-            let (mut xp, mut xm) = (x0.clone(), x0.clone());
+            let (mut xp, mut xm) = (x0, x0);
             xp[i] += h;
             xm[i] -= h;
             assert!(((end.cost(&xp) - end.cost(&xm)) / (2.0 * h) - lx[i]).abs() < 1e-6);

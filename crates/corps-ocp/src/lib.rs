@@ -15,5 +15,8 @@ pub mod human_walk;
 pub mod prediction;
 pub mod recorded_walks;
 
-pub use ddp::{ActionDerivatives, ActionModel, Ddp, DdpSettings, DdpSolution, TerminalCost};
+pub use ddp::{
+    ActionDerivatives, ActionModel, Ddp, DdpOutcome, DdpSettings, DdpSolution, DdpWorkspace,
+    TerminalCost,
+};
 pub use error::OcpError;

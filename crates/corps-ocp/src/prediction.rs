@@ -6,10 +6,10 @@
 //! iterations, 1e4 after), here by a golden-section search over the integers instead of
 //! their Nelder–Mead on a real number rounded down.
 
-use crate::ddp::{ActionModel, Ddp, DdpSettings, DdpSolution};
+use crate::ddp::{ActionModel, DdpSettings, DdpWorkspace};
 use crate::error::OcpError;
-use crate::human_walk::{HumanWalkEnd, HumanWalkStep, DT};
-use nalgebra::DVector;
+use crate::human_walk::{HumanWalkEnd, HumanWalkStep, DT, NU, NX};
+use nalgebra::Vector6;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
@@ -60,27 +60,39 @@ pub fn predict(
     let to_goal = (goal[1] - last[1]).atan2(goal[0] - last[0]);
     let shift = 2.0 * PI * ((to_goal - heading) / (2.0 * PI)).round();
     let theta = heading + shift;
-    let x0 = DVector::from_vec(vec![last[0], last[1], theta, speed, 0.0, 0.0]);
+    let x0 = Vector6::new(last[0], last[1], theta, speed, 0.0, 0.0);
     let step = HumanWalkStep::new(goal);
     let end = HumanWalkEnd::new(goal);
     let settings = DdpSettings::default();
-    // Each horizon's score and optimum, solved once.
-    let mut solved: BTreeMap<usize, (f64, DdpSolution)> = BTreeMap::new();
+    // Each horizon's score, optimum and poses, solved once, all in one workspace.
+    let mut workspace = DdpWorkspace::default();
+    let mut running: Vec<&dyn ActionModel<NX, NU>> = Vec::new();
+    let mut solved: BTreeMap<usize, Solved> = BTreeMap::new();
     let mut solve = |nodes: usize| -> Result<f64, OcpError> {
-        if let Some((score, _)) = solved.get(&nodes) {
-            return Ok(*score);
+        if let Some(s) = solved.get(&nodes) {
+            return Ok(s.score);
         }
-        let running: Vec<&dyn ActionModel> = vec![&step; nodes];
-        let sol = Ddp::solve(&x0, &running, &end, None, &settings)?;
+        running.clear();
+        running.resize(nodes, &step);
+        let o = workspace.solve(&x0, &running, &end, None, &settings)?;
         // The authors' scores: the cost per node, ten times it when DDP stopped early
         // unconverged, 1e4 when it ran out of iterations.
-        let per_node = sol.cost / nodes as f64;
-        let score = match (sol.converged, sol.iterations < 50) {
+        let per_node = o.cost / nodes as f64;
+        let score = match (o.converged, o.iterations < 50) {
             (true, _) => per_node,
             (false, true) => 10.0 * per_node,
             (false, false) => 1e4,
         };
-        solved.insert(nodes, (score, sol));
+        let poses = workspace.xs().iter().map(|x| [x[0], x[1], x[2] - shift]);
+        solved.insert(
+            nodes,
+            Solved {
+                score,
+                cost: o.cost,
+                converged: o.converged,
+                poses: poses.collect(),
+            },
+        );
         Ok(score)
     };
     let distance = (goal[0] - last[0]).hypot(goal[1] - last[1]);
@@ -104,16 +116,24 @@ pub fn predict(
         }
     }
     let solves = solved.len();
-    let (_, sol) = solved
+    let sol = solved
         .remove(&best)
         .ok_or_else(|| OcpError::Invalid("no horizon was solved".into()))?;
     Ok(Prediction {
-        poses: sol.xs.iter().map(|x| [x[0], x[1], x[2] - shift]).collect(),
+        poses: sol.poses,
         nodes: best,
         cost: sol.cost,
         converged: sol.converged,
         solves,
     })
+}
+
+/// One horizon of the search, solved.
+struct Solved {
+    score: f64,
+    cost: f64,
+    converged: bool,
+    poses: Vec<[f64; 3]>,
 }
 
 /// Distance from `p` to the polyline `path` (x, y).

@@ -5,9 +5,11 @@
 //! within 6e-10, controls within 6e-9 (the orthogonal acceleration, weight 1e-6, is the
 //! least determined).
 
-use corps_ocp::human_walk::{HumanWalkEnd, HumanWalkStep, DT, RUNNING_WEIGHTS, TERMINAL_WEIGHTS};
+use corps_ocp::human_walk::{
+    HumanWalkEnd, HumanWalkStep, DT, NU, NX, RUNNING_WEIGHTS, TERMINAL_WEIGHTS,
+};
 use corps_ocp::{ActionModel, Ddp, DdpSettings};
-use nalgebra::DVector;
+use nalgebra::{DVector, Vector6};
 use serde_json::Value;
 
 fn floats(v: &Value) -> Vec<f64> {
@@ -46,8 +48,8 @@ fn the_optima_are_crocoddyls() {
         let nodes = p["nodes"].as_u64().unwrap() as usize;
         let step = HumanWalkStep::new(goal);
         let end = HumanWalkEnd::new(goal);
-        let running: Vec<&dyn ActionModel> = vec![&step; nodes];
-        let x0 = DVector::from_vec(vec![start[0], start[1], start[2], 0.0, 0.0, 0.0]);
+        let running: Vec<&dyn ActionModel<NX, NU>> = vec![&step; nodes];
+        let x0 = Vector6::new(start[0], start[1], start[2], 0.0, 0.0, 0.0);
         let s = Ddp::solve(&x0, &running, &end, None, &settings).unwrap();
         let cost = p["cost"].as_f64().unwrap();
         println!(
@@ -62,10 +64,12 @@ fn the_optima_are_crocoddyls() {
             "{} vs {cost}",
             s.cost
         );
-        let worst = |ours: &[DVector<f64>], theirs: &Value| {
+        let worst = |ours: &[Vector6<f64>], theirs: &Value| {
             ours.iter()
                 .zip(theirs.as_array().unwrap())
-                .map(|(a, b)| (a - DVector::from_vec(floats(b))).amax())
+                .map(|(a, b)| {
+                    (DVector::from_column_slice(a.as_slice()) - DVector::from_vec(floats(b))).amax()
+                })
                 .fold(0.0, f64::max)
         };
         let dx = worst(&s.xs, &p["xs"]);

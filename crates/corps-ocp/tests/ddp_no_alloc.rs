@@ -1,0 +1,37 @@
+//! A DDP solve in a workspace that has solved a horizon as long allocates nothing (counting
+//! global allocator, per thread): the human walking OCP from a recorded-walk-like start, the
+//! same horizon solved again from another start, and a shorter one.
+
+use corps_ocp::human_walk::{HumanWalkEnd, HumanWalkStep, NU, NX};
+use corps_ocp::{ActionModel, DdpSettings, DdpWorkspace};
+use corps_testkit::{allocations_during, CountingAllocator};
+use nalgebra::Vector6;
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
+
+#[test]
+fn a_solve_in_a_used_workspace_does_not_allocate() {
+    let goal = [0.0, 0.0, std::f64::consts::FRAC_PI_2];
+    let (step, end) = (HumanWalkStep::new(goal), HumanWalkEnd::new(goal));
+    let running: Vec<&dyn ActionModel<NX, NU>> = vec![&step; 50];
+    let settings = DdpSettings::default();
+    let mut workspace = DdpWorkspace::default();
+    let x0 = Vector6::new(-1.0, -4.0, 1.2, 0.0, 0.0, 0.0);
+    let first = workspace
+        .solve(&x0, &running, &end, None, &settings)
+        .unwrap();
+    assert!(first.converged && first.iterations > 5, "{first:?}");
+    let other = Vector6::new(2.0, -3.0, 2.0, 0.8, 0.1, 0.0);
+    let mut outcomes = Vec::with_capacity(2);
+    let n = allocations_during(|| {
+        outcomes.push(workspace.solve(&other, &running, &end, None, &settings));
+        outcomes.push(workspace.solve(&x0, &running[..30], &end, None, &settings));
+    });
+    for o in &outcomes {
+        let o = o.as_ref().unwrap();
+        assert!(o.iterations > 5, "{o:?}");
+    }
+    assert_eq!(workspace.xs().len(), 31);
+    assert_eq!(n, 0, "{n} allocations in two solves");
+}
