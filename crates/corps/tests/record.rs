@@ -3,6 +3,7 @@
 //! row, the markers' CoM is the logged CoM, every joint frame moves, and the robot's shapes
 //! are there (its URDF meshes where the files are found).
 
+use corps_mocap::skeleton::{Skeleton, Units};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -173,4 +174,99 @@ fn a_recorded_walk_reads_back() {
         2,
         "standing on both feet"
     );
+}
+
+/// A teleoperation run from a clip records the operator's skeleton beside the robot: every
+/// joint of the clip at each view, standing on the ground about `BESIDE` to the robot's left
+/// at the start, the hands rising with the clip's raised hands; a run without an operator
+/// writes no `/operator` message.
+#[test]
+fn a_teleoperation_recording_shows_the_operator() {
+    let dir = tempfile::tempdir().expect("a directory");
+    let out = Command::new(env!("CARGO_BIN_EXE_corps"))
+        .current_dir(repo(""))
+        .args([
+            "run",
+            "scenarios/teleop/talos_raise_hands.toml",
+            "--record",
+            "-o",
+        ])
+        .arg(dir.path())
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let topics = read(&dir.path().join("run.mcap"));
+    let clip = corps_mocap::bvh::Bvh::read(&repo(
+        "../shared/data/mocap/dataset-2_raise-up-both-hands_normal_001.bvh",
+    ))
+    .expect("the clip");
+    let operator = &topics["/operator"];
+    assert_eq!(operator.len(), topics["/tf"].len(), "one skeleton per view");
+    let joints = |k: usize| -> Vec<[f64; 3]> {
+        let e = &operator[k].1["entities"][0];
+        assert_eq!(e["frame_id"], "world");
+        (e["spheres"].as_array().expect("joints").iter())
+            .map(|s| {
+                let p = &s["pose"]["position"];
+                ["x", "y", "z"].map(|a| p[a].as_f64().expect("a number"))
+            })
+            .collect()
+    };
+    let (first, last) = (joints(0), joints(operator.len() - 1));
+    assert_eq!(first.len(), clip.joints.len());
+    let bones = operator[0].1["entities"][0]["lines"][0]["points"]
+        .as_array()
+        .expect("bones")
+        .len();
+    assert_eq!(bones, 2 * (clip.joints.len() - 1), "a segment per bone");
+    let lowest = first.iter().map(|j| j[2]).fold(f64::INFINITY, f64::min);
+    assert!(lowest.abs() < 1e-9, "lowest joint at {lowest} m");
+    let signals = &topics["/signals"];
+    let com_y = signals[0].1["com_y"].as_f64().expect("com_y");
+    assert!((first[0][1] - com_y - 1.0).abs() < 1e-9, "beside the robot");
+    // The views follow the clip: the left hand's height in each view is the clip's at the
+    // frame of that time (the last one held after the end).
+    let hand = clip.joint("Hand_L").expect("Hand_L");
+    let skeleton = Skeleton::new(&clip, Units::default());
+    let shift = first[hand][2] - skeleton.pose(clip.frame(0), 0.0).world[hand].translation.z;
+    let mut highest = f64::NEG_INFINITY;
+    for (k, (t_ns, _)) in operator.iter().enumerate() {
+        let t = *t_ns as f64 * 1e-9;
+        let frame = ((t / clip.frame_time + 1e-9).floor() as usize).min(clip.frames() - 1);
+        let expected = skeleton.pose(clip.frame(frame), 0.0).world[hand]
+            .translation
+            .z
+            + shift;
+        let drawn = joints(k)[hand][2];
+        assert!(
+            (drawn - expected).abs() < 1e-9,
+            "{t} s: {drawn} vs {expected}"
+        );
+        highest = highest.max(drawn);
+    }
+    println!(
+        "left hand: {:.3} m at the start, {highest:.3} m at most, {:.3} m at the end",
+        first[hand][2], last[hand][2]
+    );
+    assert!(highest - first[hand][2] > 0.3, "the hands go up in this clip");
+
+    let dir = tempfile::tempdir().expect("a directory");
+    let out = Command::new(env!("CARGO_BIN_EXE_corps"))
+        .current_dir(repo(""))
+        .args([
+            "run",
+            "scenarios/walk/tsid_torque_20cm.toml",
+            "--duration",
+            "0.5",
+        ])
+        .args(["--record", "-o"])
+        .arg(dir.path())
+        .output()
+        .expect("runs");
+    assert!(out.status.success());
+    assert!(!read(&dir.path().join("run.mcap")).contains_key("/operator"));
 }

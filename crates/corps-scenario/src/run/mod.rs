@@ -21,6 +21,7 @@ use crate::error::{bail, invalid, Context, Result};
 use crate::estimation;
 use crate::gains;
 use crate::metrics::{DynamicFilterMetrics, FootMetrics, Metrics, WalkMetrics, WalkingErrors};
+use crate::mocap::MocapSourceKind;
 use crate::motion::{self, MotionPlan, MotionSection};
 use crate::scenario::Scenario;
 use crate::series::PlotBuffer;
@@ -101,6 +102,8 @@ pub struct ScenarioRun {
     interrupt: Option<&'static AtomicBool>,
     /// Each foot's sole frame and rectangle corners (left, right), for viewers.
     soles: [(usize, [Vector3<f64>; 4]); 2],
+    /// The clip a teleoperation run follows and its units, for viewers.
+    operator_clip: Option<(corps_mocap::bvh::Bvh, corps_mocap::skeleton::Units)>,
 }
 
 impl ScenarioRun {
@@ -227,6 +230,7 @@ impl ScenarioRun {
                 section.kind.name()
             );
         }
+        let mut operator_clip = None;
         let (inner, stabilized) = match section.kind {
             ControllerKind::TsidTorque
             | ControllerKind::TsidPosition
@@ -292,6 +296,11 @@ impl ScenarioRun {
                     Some(mocap) => Some(mocap.open(base_dir)?),
                     None => None,
                 };
+                let from_clip =
+                    (scenario.mocap.as_ref()).is_some_and(|m| m.source == MocapSourceKind::Bvh);
+                operator_clip = (operator.as_ref())
+                    .filter(|_| from_clip)
+                    .map(|o| (o.clip.clone(), o.mapping.units()));
                 let inner = controller::teleop_velocity::TeleopVelocityController::new(
                     &robot, g, dt, &q, operator, &footsteps,
                 )
@@ -483,6 +492,7 @@ impl ScenarioRun {
             dynamic_filter,
             interrupt: options.interrupt,
             soles: sole_rectangles,
+            operator_clip,
         })
     }
 
@@ -538,6 +548,12 @@ impl ScenarioRun {
         &self.soles
     }
 
+    /// The recorded clip a teleoperation run follows and its units (None for a live stream
+    /// or another controller).
+    pub fn operator_clip(&self) -> Option<&(corps_mocap::bvh::Bvh, corps_mocap::skeleton::Units)> {
+        self.operator_clip.as_ref()
+    }
+
     /// The time series' columns.
     pub fn columns(&self) -> &[String] {
         &self.columns
@@ -569,6 +585,7 @@ impl ScenarioRun {
             dynamic_filter,
             interrupt,
             soles: _,
+            operator_clip: _,
         } = self;
         let dt = settings.dt;
         let base0 = recorder.base0;

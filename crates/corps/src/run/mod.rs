@@ -32,7 +32,7 @@ pub use corps_scenario::sensor_profile::SensorProfile;
 pub use corps_sim::Overlap;
 
 use crate::output;
-use crate::output::recording::{Recording, RecordingScene, RECORDING_NAME};
+use crate::output::recording::{OperatorView, Recording, RecordingScene, RECORDING_NAME};
 use crate::progress::Progress;
 use anyhow::{anyhow, bail, Context, Result};
 use clap::Args;
@@ -404,6 +404,9 @@ pub fn run_built(
             RecordingScene {
                 model: run.model().clone(),
                 feet: run.soles().to_vec(),
+                operator: run
+                    .operator_clip()
+                    .map(|(clip, units)| OperatorView::new(clip.clone(), *units)),
             },
             &header,
             run.dt(),

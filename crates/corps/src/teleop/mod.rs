@@ -226,6 +226,7 @@ pub fn teleoperate(
             let scene = RecordingScene {
                 model: run.model().clone(),
                 feet: run.soles().to_vec(),
+                operator: None,
             };
             let every = scenario.output.log_every;
             Some(Recording::stream(

@@ -14,7 +14,7 @@ pub struct McapFile {
     partial: PathBuf,
     target: PathBuf,
     /// The channel id of each topic ([`Topic::ALL`] order).
-    channels: [u16; 4],
+    channels: [u16; Topic::ALL.len()],
     sequence: u32,
 }
 
@@ -26,7 +26,7 @@ impl McapFile {
             File::create(&partial).with_context(|| format!("creating {}", partial.display()))?;
         let mut writer = mcap::Writer::new(BufWriter::new(file))?;
         let no_metadata = BTreeMap::new();
-        let mut channels = [0; 4];
+        let mut channels = [0; Topic::ALL.len()];
         for topic in Topic::ALL {
             let schema =
                 writer.add_schema(topic.schema_name(), "jsonschema", topic.schema().as_bytes())?;

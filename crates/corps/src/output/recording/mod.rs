@@ -3,21 +3,25 @@
 //! the robot in 3D (the URDF's visual meshes, or its collision
 //! primitives where a mesh file is not found), moving with the true state; the CoM and its
 //! reference, the ZMP and its reference, the support polygon of the feet in contact, the
-//! contact forces as arrows and the footprints where each foot landed; and every column of
-//! the log as signals to plot, all on one time line (controlled time).
+//! contact forces as arrows and the footprints where each foot landed; in a teleoperation run
+//! from a clip, the operator's skeleton beside the robot; and every column of the log as
+//! signals to plot, all on one time line (controlled time).
 //!
 //! Topics: `/tf` (`foxglove.FrameTransforms`, world → each joint frame), `/robot`
 //! (`foxglove.SceneUpdate`, the robot's shapes, locked to the joint frames, written once),
-//! `/markers` (`foxglove.SceneUpdate` in the world frame), `/signals` (`corps.Signals`). 3D
-//! topics are written every `VIEW_PERIOD` of controlled time, signals with the log.
+//! `/markers` (`foxglove.SceneUpdate` in the world frame), `/signals` (`corps.Signals`),
+//! `/operator` (`foxglove.SceneUpdate` in the world frame, teleoperation only). 3D topics are
+//! written every `VIEW_PERIOD` of controlled time, signals with the log.
 
 pub mod live;
 mod mcap_file;
 mod meshes;
+pub mod operator;
 mod schemas;
 mod topics;
 
 pub use live::LiveStream;
+pub use operator::OperatorView;
 use topics::{Publish, Topic};
 
 use anyhow::{Context, Result};
@@ -46,6 +50,8 @@ pub struct RecordingScene {
     pub model: Arc<Model>,
     /// Each foot's sole frame and its rectangle's corners in that frame.
     pub feet: Vec<(usize, [Vector3<f64>; 4])>,
+    /// The operator a teleoperation run follows, drawn beside the robot.
+    pub operator: Option<OperatorView>,
 }
 
 /// Turns a run into the scene's messages: into `run.mcap.partial`, renamed to `run.mcap` when
@@ -286,6 +292,29 @@ impl Recording {
         self.write(Topic::Markers, t, &message)
     }
 
+    /// The operator's skeleton at `t`, if the run follows one.
+    fn write_operator(&mut self, t: f64) -> Result<()> {
+        let r = &self.row;
+        let com = Vector3::new(r[self.at.com[0]], r[self.at.com[1]], r[self.at.com[2]]);
+        let Some(view) = &mut self.scene.operator else {
+            return Ok(());
+        };
+        let (bones, joints) = view.at(t, com);
+        let mut e = entity(t, "world", "operator");
+        e["frame_locked"] = Value::Bool(false);
+        e["lines"] = json!([line(&bones, 0.02, color(0.95, 0.55, 0.1, 1.0), 2)]);
+        e["spheres"] = Value::Array(
+            (joints.iter())
+                .map(|j| json!({"pose": pose(&Se3::new(Matrix3::identity(), *j)), "size": vec3(&Vector3::repeat(0.04)), "color": color(0.95, 0.75, 0.3, 1.0)}))
+                .collect(),
+        );
+        self.write(
+            Topic::Operator,
+            t,
+            &json!({"deletions": [], "entities": [e]}),
+        )
+    }
+
     /// Ends the output: the recording's summary written and the file renamed to `run.mcap`
     /// (returned), or the live stream's connections closed (None).
     pub fn finish(self) -> Result<Option<PathBuf>> {
@@ -315,6 +344,7 @@ impl RowSink for Recording {
         let t = self.row[self.at.t];
         self.write_transforms(t, truth)
             .and_then(|()| self.write_markers(t, truth))
+            .and_then(|()| self.write_operator(t))
             .map_err(|e| ScenarioError::Output(format!("{RECORDING_NAME}: {e:#}")))
     }
 }
@@ -373,7 +403,7 @@ fn pose(m: &Se3) -> Value {
            "orientation": {"x": q.i, "y": q.j, "z": q.k, "w": q.w}})
 }
 
-/// A polyline (`kind` 0: strip, 1: closed loop).
+/// A polyline (`kind` 0: strip, 1: closed loop, 2: separate segments, two points each).
 fn line(points: &[Vector3<f64>], thickness: f64, c: Value, kind: u8) -> Value {
     json!({"type": kind, "pose": pose(&Se3::identity()), "thickness": thickness,
            "scale_invariant": false, "points": points.iter().map(vec3).collect::<Vec<_>>(),

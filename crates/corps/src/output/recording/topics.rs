@@ -16,10 +16,19 @@ pub enum Topic {
     Markers,
     /// `corps.Signals`: one log row.
     Signals,
+    /// `foxglove.SceneUpdate` in the world frame: the operator's skeleton beside the robot
+    /// (teleoperation runs from a clip).
+    Operator,
 }
 
 impl Topic {
-    pub const ALL: [Topic; 4] = [Topic::Tf, Topic::Robot, Topic::Markers, Topic::Signals];
+    pub const ALL: [Topic; 5] = [
+        Topic::Tf,
+        Topic::Robot,
+        Topic::Markers,
+        Topic::Signals,
+        Topic::Operator,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -27,13 +36,14 @@ impl Topic {
             Topic::Robot => "/robot",
             Topic::Markers => "/markers",
             Topic::Signals => "/signals",
+            Topic::Operator => "/operator",
         }
     }
 
     pub fn schema_name(self) -> &'static str {
         match self {
             Topic::Tf => "foxglove.FrameTransforms",
-            Topic::Robot | Topic::Markers => "foxglove.SceneUpdate",
+            Topic::Robot | Topic::Markers | Topic::Operator => "foxglove.SceneUpdate",
             Topic::Signals => "corps.Signals",
         }
     }
@@ -41,7 +51,7 @@ impl Topic {
     pub fn schema(self) -> &'static str {
         match self {
             Topic::Tf => schemas::FRAME_TRANSFORMS,
-            Topic::Robot | Topic::Markers => schemas::SCENE_UPDATE,
+            Topic::Robot | Topic::Markers | Topic::Operator => schemas::SCENE_UPDATE,
             Topic::Signals => schemas::SIGNALS,
         }
     }
