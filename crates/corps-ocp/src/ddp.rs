@@ -12,9 +12,9 @@
 //! grows tenfold when a `Q_uu` is not positive definite or the step taken is at most
 //! `raise_at_step` (0.01, none taken included); the solve gives up, unconverged, once μ
 //! reaches `mu_max`: Crocoddyl 3's schedule, except that Crocoddyl also adds μ to `V_xx`'s
-//! diagonal (measured on the recorded walks' predictions at a quarter of the walk: 172 of
-//! 233 converged with it, 180 without, and one prediction at half the walk landed 12 m off;
-//! left out here). It stops when `Σ_k ‖Q_u‖²` falls below `stop` (1e-9; Crocoddyl 1.x's
+//! diagonal (measured on the recorded walks' predictions at a quarter of the walk, with this
+//! solver on dynamic-size blocks: 172 of 233 converged with it, 180 without, and one
+//! prediction at half the walk landed 12 m off; left out here). It stops when `Σ_k ‖Q_u‖²` falls below `stop` (1e-9; Crocoddyl 1.x's
 //! criterion, Crocoddyl 3 stops on the expected improvement instead).
 //!
 //! The state and control sizes are compile-time constants (`NX`, `NU`): a node's blocks are
@@ -170,6 +170,8 @@ impl Ddp {
 /// The trajectories, derivatives and gains of a solve, kept for the next.
 pub struct DdpWorkspace<const NX: usize, const NU: usize> {
     nodes: usize,
+    /// Nodes of the last solve that ended without an error.
+    solved: Option<usize>,
     xs: Vec<SVector<f64, NX>>,
     us: Vec<SVector<f64, NU>>,
     xs_try: Vec<SVector<f64, NX>>,
@@ -185,6 +187,7 @@ impl<const NX: usize, const NU: usize> Default for DdpWorkspace<NX, NU> {
     fn default() -> Self {
         Self {
             nodes: 0,
+            solved: None,
             xs: Vec::new(),
             us: Vec::new(),
             xs_try: Vec::new(),
@@ -199,21 +202,39 @@ impl<const NX: usize, const NU: usize> Default for DdpWorkspace<NX, NU> {
 }
 
 impl<const NX: usize, const NU: usize> DdpWorkspace<NX, NU> {
-    /// States x_0 … x_N of the last solve.
+    /// States x_0 … x_N of the last solve that returned an outcome (empty before one).
     pub fn xs(&self) -> &[SVector<f64, NX>] {
-        &self.xs[..=self.nodes]
+        self.solved.map_or(&[], |n| &self.xs[..=n])
     }
 
-    /// Controls u_0 … u_{N−1} of the last solve.
+    /// Controls u_0 … u_{N−1} of the last solve that returned an outcome (empty before one).
     pub fn us(&self) -> &[SVector<f64, NU>] {
-        &self.us[..self.nodes]
+        self.solved.map_or(&[], |n| &self.us[..n])
     }
 
-    /// Sizes the buffers for `n` nodes (allocating only to grow) and sets the initial
-    /// controls.
-    fn prepare(&mut self, n: usize, us: Option<&[SVector<f64, NU>]>) -> Result<(), OcpError> {
+    /// Sizes the buffers for `n` nodes (allocating only to grow), zeroes the derivatives (a
+    /// model may write only its non-zero entries) and sets the initial controls.
+    fn prepare(
+        &mut self,
+        n: usize,
+        us: Option<&[SVector<f64, NU>]>,
+        settings: &DdpSettings,
+    ) -> Result<(), OcpError> {
         if n == 0 {
             return Err(OcpError::Invalid("the horizon has no node".into()));
+        }
+        let s = settings;
+        if !(s.mu_min > 0.0
+            && s.mu_min <= s.mu_init
+            && s.mu_init <= s.mu_max
+            && s.mu_max.is_finite()
+            && s.mu_factor > 1.0
+            && s.mu_factor.is_finite())
+        {
+            return Err(OcpError::Invalid(format!(
+                "regularisation: need 0 < mu_min ≤ mu_init ≤ mu_max < ∞ and mu_factor > 1, got {} ≤ {} ≤ {}, factor {}",
+                s.mu_min, s.mu_init, s.mu_max, s.mu_factor
+            )));
         }
         if let Some(us) = us {
             if us.len() != n {
@@ -236,6 +257,9 @@ impl<const NX: usize, const NU: usize> DdpWorkspace<NX, NU> {
             Some(us) => self.us[..n].copy_from_slice(us),
             None => self.us[..n].fill(SVector::zeros()),
         }
+        self.d[..n].fill(ActionDerivatives::default());
+        self.lx_n = SVector::zeros();
+        self.lxx_n = SMatrix::zeros();
         self.nodes = n;
         Ok(())
     }
@@ -250,7 +274,8 @@ impl<const NX: usize, const NU: usize> DdpWorkspace<NX, NU> {
         settings: &DdpSettings,
     ) -> Result<DdpOutcome, OcpError> {
         let n = running.len();
-        self.prepare(n, us)?;
+        self.solved = None;
+        self.prepare(n, us, settings)?;
         let mut cost = rollout(x0, running, terminal, &self.us[..n], &mut self.xs[..=n])?;
         let mut mu = settings.mu_init;
         let mut stop = f64::INFINITY;
@@ -266,6 +291,7 @@ impl<const NX: usize, const NU: usize> DdpWorkspace<NX, NU> {
             converged,
             stop,
         };
+        self.solved = Some(n);
         for iteration in 0..settings.max_iterations {
             if moved {
                 for (k, model) in running.iter().enumerate() {
@@ -284,6 +310,7 @@ impl<const NX: usize, const NU: usize> DdpWorkspace<NX, NU> {
             };
             stop = predicted.stop;
             if !stop.is_finite() {
+                self.solved = None;
                 return Err(OcpError::NonFinite {
                     what: "Q_u",
                     node: 0,

@@ -3,7 +3,8 @@
 //! row, the markers' CoM is the logged CoM, every joint frame moves, and the robot's shapes
 //! are there (its URDF meshes where the files are found).
 
-use corps_mocap::skeleton::{Skeleton, Units};
+use corps_mocap::skeleton::Units;
+use corps_mocap::source::{ClipSource, MocapSource};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -228,31 +229,34 @@ fn a_teleoperation_recording_shows_the_operator() {
     let signals = &topics["/signals"];
     let com_y = signals[0].1["com_y"].as_f64().expect("com_y");
     assert!((first[0][1] - com_y - 1.0).abs() < 1e-9, "beside the robot");
-    // The views follow the clip: the left hand's height in each view is the clip's at the
-    // frame of that time (the last one held after the end).
-    let hand = clip.joint("Hand_L").expect("Hand_L");
-    let skeleton = Skeleton::new(&clip, Units::default());
-    let shift = first[hand][2] - skeleton.pose(clip.frame(0), 0.0).world[hand].translation.z;
-    let mut highest = f64::NEG_INFINITY;
+    // The views follow the clip as the controller reads it (`ClipSource::poll` at the view's
+    // time): every joint where the clip puts it, moved by one constant shift.
+    let mut source = ClipSource::new(clip.clone(), Units::default());
+    let mut shift = None;
     for (k, (t_ns, _)) in operator.iter().enumerate() {
         let t = *t_ns as f64 * 1e-9;
-        let frame = ((t / clip.frame_time + 1e-9).floor() as usize).min(clip.frames() - 1);
-        let expected = skeleton.pose(clip.frame(frame), 0.0).world[hand]
-            .translation
-            .z
-            + shift;
-        let drawn = joints(k)[hand][2];
-        assert!(
-            (drawn - expected).abs() < 1e-9,
-            "{t} s: {drawn} vs {expected}"
-        );
-        highest = highest.max(drawn);
+        let (pose, _) = source.poll(t);
+        let drawn = joints(k);
+        for (j, at) in pose.world.iter().enumerate() {
+            let p = at.translation.vector;
+            let d = [drawn[j][0] - p.x, drawn[j][1] - p.y, drawn[j][2] - p.z];
+            let s = *shift.get_or_insert(d);
+            let off = (0..3).map(|a| (d[a] - s[a]).abs()).fold(0.0, f64::max);
+            assert!(off < 1e-9, "{t} s, joint {j}: {off} m off the clip's pose");
+        }
     }
+    let hand = clip.joint("Hand_L").expect("Hand_L");
+    let highest = (0..operator.len())
+        .map(|k| joints(k)[hand][2])
+        .fold(f64::NEG_INFINITY, f64::max);
     println!(
         "left hand: {:.3} m at the start, {highest:.3} m at most, {:.3} m at the end",
         first[hand][2], last[hand][2]
     );
-    assert!(highest - first[hand][2] > 0.3, "the hands go up in this clip");
+    assert!(
+        highest - first[hand][2] > 0.3,
+        "the hands go up in this clip"
+    );
 
     let dir = tempfile::tempdir().expect("a directory");
     let out = Command::new(env!("CARGO_BIN_EXE_corps"))

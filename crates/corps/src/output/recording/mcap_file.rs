@@ -13,25 +13,25 @@ pub struct McapFile {
     writer: mcap::Writer<BufWriter<File>>,
     partial: PathBuf,
     target: PathBuf,
-    /// The channel id of each topic ([`Topic::ALL`] order).
-    channels: [u16; Topic::ALL.len()],
+    /// The channel id of each topic the file holds (by [`Topic::index`]).
+    channels: [Option<u16>; Topic::COUNT],
     sequence: u32,
 }
 
 impl McapFile {
-    /// Starts `run.mcap.partial` in `dir`, with one JSON channel per topic.
-    pub fn create(dir: &Path) -> Result<Self> {
+    /// Starts `run.mcap.partial` in `dir`, with one JSON channel per topic of `topics`.
+    pub fn create(dir: &Path, topics: &[Topic]) -> Result<Self> {
         let partial = dir.join(format!("{RECORDING_NAME}.partial"));
         let file =
             File::create(&partial).with_context(|| format!("creating {}", partial.display()))?;
         let mut writer = mcap::Writer::new(BufWriter::new(file))?;
         let no_metadata = BTreeMap::new();
-        let mut channels = [0; Topic::ALL.len()];
-        for topic in Topic::ALL {
+        let mut channels = [None; Topic::COUNT];
+        for &topic in topics {
             let schema =
                 writer.add_schema(topic.schema_name(), "jsonschema", topic.schema().as_bytes())?;
             channels[topic.index()] =
-                writer.add_channel(schema, topic.name(), "json", &no_metadata)?;
+                Some(writer.add_channel(schema, topic.name(), "json", &no_metadata)?);
         }
         Ok(Self {
             writer,
@@ -46,8 +46,11 @@ impl McapFile {
 impl Publish for McapFile {
     fn publish(&mut self, topic: Topic, t: f64, json: Vec<u8>) -> Result<()> {
         let time = (t.max(0.0) * 1e9).round() as u64;
+        let Some(channel_id) = self.channels[topic.index()] else {
+            anyhow::bail!("{}: not a topic of this recording", topic.name());
+        };
         let header = mcap::records::MessageHeader {
-            channel_id: self.channels[topic.index()],
+            channel_id,
             sequence: self.sequence,
             log_time: time,
             publish_time: time,

@@ -90,7 +90,11 @@ impl Recording {
         dt: f64,
         log_every: usize,
     ) -> Result<Self> {
-        let out = Box::new(mcap_file::McapFile::create(dir)?);
+        let mut topics = Topic::ALL.to_vec();
+        if scene.operator.is_some() {
+            topics.push(Topic::Operator);
+        }
+        let out = Box::new(mcap_file::McapFile::create(dir, &topics)?);
         Self::with_output(out, scene, columns, dt, log_every)
     }
 

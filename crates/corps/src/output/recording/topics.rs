@@ -22,13 +22,10 @@ pub enum Topic {
 }
 
 impl Topic {
-    pub const ALL: [Topic; 5] = [
-        Topic::Tf,
-        Topic::Robot,
-        Topic::Markers,
-        Topic::Signals,
-        Topic::Operator,
-    ];
+    /// The topics of every scene (a live stream advertises these).
+    pub const ALL: [Topic; 4] = [Topic::Tf, Topic::Robot, Topic::Markers, Topic::Signals];
+    /// Every topic a recording may hold: [`Topic::ALL`] and the operator's.
+    pub const COUNT: usize = 5;
 
     pub fn name(self) -> &'static str {
         match self {
@@ -56,7 +53,7 @@ impl Topic {
         }
     }
 
-    /// Position in [`Topic::ALL`].
+    /// Position in [`Topic::ALL`], then [`Topic::Operator`].
     pub fn index(self) -> usize {
         self as usize
     }
