@@ -63,8 +63,8 @@ echo "### Walking on its own (S11; scenarios/teleop/s11/, the upper body at rest
 echo
 echo "S11's bound: every step of the experiment walked without a fall, at least 15 for (c)."
 echo
-echo "| scenario | steps asked | verdict | steps walked | step length error (mm) | robot steps (F/T) |"
-echo "|---|---:|---|---:|---:|---:|"
+echo "| scenario | steps asked | verdict | steps walked | step length error (mm) | robot steps (F/T) | turn planned / walked (°) |"
+echo "|---|---:|---|---:|---:|---:|---:|"
 short=$out/s11_short.md
 : > "$short"
 for f in scenarios/teleop/s11/*.toml; do
@@ -77,7 +77,8 @@ m = json.load(open(sys.argv[1]))
 n, count, short = sys.argv[2], int(sys.argv[3]), sys.argv[4]
 v = m['verdict']
 verdict = v['verdict'] + (f" ({v['t']:.2f} s)" if v.get('t') is not None else "")
-print(f"| {n} | {count} | {verdict} | {m['steps_walked']} | {m['step_length_error_mm']:.1f} | {m['robot_steps']} |")
+turn = f"{m['turn_planned_deg']:.1f} / {m['turn_walked_deg']:.1f}" if v['verdict'] == 'completed' else f"{m['turn_planned_deg']:.1f} / –"
+print(f"| {n} | {count} | {verdict} | {m['steps_walked']} | {m['step_length_error_mm']:.1f} | {m['robot_steps']} | {turn} |")
 if v['verdict'] != 'completed' or m['steps_walked'] != count:
     with open(short, 'a') as f:
         f.write(f"- `{n}`: {verdict}, {m['steps_walked']} of {count} steps walked.\n")

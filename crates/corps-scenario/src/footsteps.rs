@@ -1,7 +1,10 @@
 //! `[footsteps]`: steps a teleoperation scenario's robot walks on its own, its upper body held
 //! (seed 001 §6.1.2, Fig 6.6's autonomous walking; the walking experiments of S11): a pattern
-//! repeated `count` times, each step in the robot's own directions at the start (x forward,
-//! y left), its sole raised `height` at mid-step.
+//! repeated `count` times, each step in the robot's own directions when it begins (x forward,
+//! y left), its sole raised `height` at mid-step and turned `turn` degrees about the vertical
+//! (counter-clockwise; the robot's heading is the mean of the soles' turns and the sole swings
+//! about the stance sole by the heading's change, so that a pattern of turning steps with no
+//! travel turns the robot in place, the feet side by side).
 //!
 //! ```toml
 //! [footsteps]
@@ -46,10 +49,15 @@ pub struct Footstep {
     pub left: f64,
     /// How high the sole rises (m).
     pub height: f64,
+    /// How much the sole turns (degrees, counter-clockwise).
+    #[serde(default)]
+    pub turn: f64,
 }
 
 /// No step of a scenario travels or rises further than this (m).
 const MAX_STEP: f64 = 1.0;
+/// No step turns its sole more than this (degrees).
+const MAX_TURN: f64 = 45.0;
 
 impl FootstepsSection {
     /// The steps to walk, checked.
@@ -70,6 +78,11 @@ impl FootstepsSection {
                     "footsteps.pattern[{k}]: forward, left and height must be finite, at most {MAX_STEP} m, the height ≥ 0"
                 ));
             }
+            if !(s.turn.is_finite() && s.turn.abs() <= MAX_TURN) {
+                return Err(invalid!(
+                    "footsteps.pattern[{k}]: turn must be finite, at most {MAX_TURN}° either way"
+                ));
+            }
         }
         Ok((self.pattern.iter().cycle().take(self.count))
             .map(|s| PlannedStep {
@@ -79,6 +92,7 @@ impl FootstepsSection {
                 },
                 travel: Vector2::new(s.forward, s.left),
                 height: s.height,
+                turn: s.turn.to_radians(),
             })
             .collect())
     }
@@ -115,6 +129,10 @@ mod tests {
             (
                 "count = 1\npattern = [{ foot = \"left\", forward = 5.0, height = 0.0 }]",
                 "pattern[0]",
+            ),
+            (
+                "count = 1\npattern = [{ foot = \"left\", turn = 90.0, height = 0.0 }]",
+                "turn",
             ),
         ] {
             let f: FootstepsSection = toml::from_str(text).unwrap();

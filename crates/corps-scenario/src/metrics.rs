@@ -523,6 +523,10 @@ pub struct TeleopMetrics {
     pub step_lengths: Vec<StepLength>,
     /// Mean |measured − planned| step length (mm); 0 without a step.
     pub step_length_error_mm: f64,
+    /// The robot's turn about the vertical, planned (the mean of the soles' planned turns)
+    /// and measured (the mean turn of the estimator's soles), at the end (degrees).
+    pub turn_planned_deg: f64,
+    pub turn_walked_deg: f64,
     pub upper_body: Vec<JointTracking>,
 }
 

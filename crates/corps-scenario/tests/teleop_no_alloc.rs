@@ -97,6 +97,8 @@ fn the_walking_state_machine_does_not_allocate() {
             foot: k % 2,
             travel: Vector2::new(0.05, 0.0),
             height: 0.03,
+            // Every third step turns its sole.
+            turn: if k % 3 == 0 { 0.1 } else { 0.0 },
         });
     }
     let mut r = walk.references(0.0);

@@ -235,6 +235,21 @@ fn the_s11_footsteps_are_walked_or_the_shortfall_is_listed() {
         if text.contains("S11 (c)") {
             assert!(count >= 15, "{name}: (c) asks for 15 steps or more");
         }
+        // A turning pattern: the robot turns as planned, within a tenth of the turn and 2°.
+        let planned = m["turn_planned_deg"].as_f64().unwrap();
+        let turned = m["turn_walked_deg"].as_f64().unwrap();
+        if text.contains("turn = ") {
+            table += &format!("{name:24} turned {turned:.1}° of {planned:.1}° planned\n");
+            if verdict == "completed" && walked == count {
+                assert!(
+                    planned.abs() > 1.0 && (turned - planned).abs() <= 0.1 * planned.abs() + 2.0,
+                    "{name}: turned {turned:.1}° of {planned:.1}°"
+                );
+            }
+        } else {
+            assert_eq!(planned, 0.0, "{name}");
+            table += &format!("{name:24} turned {turned:.1}° (none planned)\n");
+        }
         if verdict != "completed" || walked != count {
             assert!(
                 shortfalls.contains(&format!("`{name}`")),

@@ -31,7 +31,7 @@ use corps_model::spatial::Motion;
 use corps_model::Model;
 use corps_robot::Robot;
 use corps_sim::Command;
-use nalgebra::{DVector, Matrix3, Vector2, Vector3, Vector6};
+use nalgebra::{DVector, Matrix3, Rotation3, Vector2, Vector3, Vector6};
 use serde::Deserialize;
 use std::sync::Arc;
 
@@ -161,6 +161,12 @@ pub struct TeleopVelocityController {
     /// The robot's forward and left directions (world, horizontal) the operator's steps map onto.
     heading: [Vector2<f64>; 2],
     walk_references: WalkReferences,
+    /// The soles' orientations at the start, which their turns rotate about the vertical.
+    soles_rotation0: [Matrix3<f64>; 2],
+    /// Whether a step turns (the soles' and the waist's orientation references then follow
+    /// the turns: the waist the mean of the soles').
+    turning: bool,
+    waist_rotation0: Matrix3<f64>,
     sway_damping: f64,
 }
 
@@ -302,6 +308,7 @@ impl TeleopVelocityController {
             .min(feet0[1].placement.translation.z);
         let waist_z = state.frame_placement(&model, robot.base)?.translation.z;
         let n = joints.len();
+        let soles_rotation0 = [feet0[0].placement.rotation, feet0[1].placement.rotation];
         let soles = feet0.map(|f| f.placement.translation);
         let lateral = (soles[0] - soles[1]).xy();
         let lateral = lateral.try_normalize(1e-9).unwrap_or_else(Vector2::y);
@@ -318,6 +325,8 @@ impl TeleopVelocityController {
             });
         }
         let walk_references = walk.references(0.0);
+        let turning = footsteps.iter().any(|s| s.turn != 0.0);
+        let waist_rotation0 = state.frame_placement(&model, robot.base)?.rotation;
         // The free-flyer's configuration (none for a fixed base).
         let base_len = if model.has_free_flyer() { 7 } else { 0 };
         let mut q_ref = robot.posture.clone();
@@ -355,6 +364,9 @@ impl TeleopVelocityController {
             waist_stand: waist_z,
             heading,
             walk_references,
+            soles_rotation0,
+            turning,
+            waist_rotation0,
             sway_damping: config.gains.sway_damping,
             model,
         })
@@ -431,6 +443,7 @@ impl TeleopVelocityController {
                         foot: step.foot,
                         travel: in_world(self.heading, step.robot_travel.xy()),
                         height: step.robot_height,
+                        turn: 0.0,
                     });
                 }
                 if let Some((frame, data)) = &mut self.neck {
@@ -462,6 +475,11 @@ impl TeleopVelocityController {
             let foot = &mut self.ik.task_mut::<FrameVelocityTask>(name)?.reference;
             foot.placement.translation = walk.feet[k];
             foot.velocity.linear = walk.feet_velocity[k];
+            if self.turning {
+                let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), walk.feet_yaw[k]);
+                foot.placement.rotation = turn.matrix() * self.soles_rotation0[k];
+                foot.velocity.angular = Vector3::z() * walk.feet_yaw_rate[k];
+            }
         }
         // The sway damping of corps_control::stabilizer (its module docs): the CoM reference
         // moved by −g_d (ċ − ċ*), the damping the servo-held robot's sway lacks.
@@ -477,12 +495,15 @@ impl TeleopVelocityController {
             self.waist_stand = self.waist_z;
         }
         let waist_z = self.waist_stand + walk.waist_offset;
-        self.ik
-            .task_mut::<FrameVelocityTask>("waist")?
-            .reference
-            .placement
-            .translation
-            .z = waist_z;
+        let waist = &mut self.ik.task_mut::<FrameVelocityTask>("waist")?.reference;
+        waist.placement.translation.z = waist_z;
+        if self.turning {
+            let heading = (walk.feet_yaw[0] + walk.feet_yaw[1]) / 2.0;
+            let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), heading);
+            waist.placement.rotation = turn.matrix() * self.waist_rotation0;
+            waist.velocity.angular =
+                Vector3::z() * ((walk.feet_yaw_rate[0] + walk.feet_yaw_rate[1]) / 2.0);
+        }
         if self.neck.is_some() {
             self.ik
                 .task_mut::<FrameVelocityTask>("neck")?
@@ -629,6 +650,8 @@ impl WholeBodyController for TeleopVelocityController {
                     l.iter().map(|[p, w]| (w - p).abs()).sum::<f64>() / l.len() as f64 * 1e3
                 }
             },
+            turn_planned_deg: self.walk.planned_turn().to_degrees(),
+            turn_walked_deg: self.walk.measured_turn.to_degrees(),
             upper_body: per_joint,
         })
     }

@@ -11,6 +11,12 @@
 //!   with the CoM within `e_com`, the foot within `e_foot` of where it touched and its sole
 //!   loaded past `f_touchdown`, the feet swap roles → i.
 //!
+//! A step may turn its sole by `turn` about the vertical (autonomous walking's turning steps;
+//! the operator's steps do not turn): its landing point is its start swung about the stance
+//! sole by the robot's change of heading (the heading is the mean of the soles' turns, so half
+//! the step's turn), plus its travel, taken in the robot's heading at the step's start; the
+//! sole's yaw follows a minimum-jerk profile over the rise and the descent.
+//!
 //! With no step pending, i ends in the teleoperation double support (2a). Every reference moves
 //! along a minimum-jerk profile; the waist goes `waist_drop` lower during the liftoff and
 //! touchdown of a short step (Table 6.2 and L8072–L8080). Thresholds are checked on the
@@ -79,14 +85,16 @@ impl WalkingSpec {
     }
 }
 
-/// One robot step to make: which foot, its horizontal travel in the world (m) and the height
-/// its sole rises to (m).
+/// One robot step to make: which foot, its horizontal travel in the world at the start of the
+/// walk (m; turned with the robot's heading when the step begins), the height its sole rises
+/// to (m) and how much the sole turns about the vertical (rad, counter-clockwise).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlannedStep {
     /// 0 left, 1 right.
     pub foot: usize,
     pub travel: Vector2<f64>,
     pub height: f64,
+    pub turn: f64,
 }
 
 /// The states of Fig 6.6's branch 2.
@@ -162,9 +170,12 @@ pub struct WalkReferences {
     /// The CoM's ground projection and its rate (z unused).
     pub com: Vector3<f64>,
     pub com_velocity: Vector3<f64>,
-    /// Each sole's position and linear velocity (orientation held).
+    /// Each sole's position and linear velocity.
     pub feet: [Vector3<f64>; 2],
     pub feet_velocity: [Vector3<f64>; 2],
+    /// Each sole's turn about the vertical since the start (rad) and its rate (rad/s).
+    pub feet_yaw: [f64; 2],
+    pub feet_yaw_rate: [f64; 2],
     /// The waist's offset from its standing height (m, ≤ 0).
     pub waist_offset: f64,
 }
@@ -183,6 +194,13 @@ pub struct TeleopWalk {
     feet: [Segment; 2],
     /// The waist offset's segment: from, to, start (over `swing_time`).
     waist: (f64, f64, f64),
+    /// Each sole's turn since the start: from, to, start (over twice `swing_time`).
+    yaw: [(f64, f64, f64); 2],
+    /// The planned horizontal length of the step under way (m).
+    planned_length: f64,
+    /// The measured soles' yaw at the first update, and their mean turn since (rad).
+    soles_yaw0: Option<[f64; 2]>,
+    pub measured_turn: f64,
     /// The step under way.
     step: Option<PlannedStep>,
     /// The swing foot's landing point (where it touched down, once it has), and the height
@@ -217,6 +235,10 @@ impl TeleopWalk {
             com: Segment::hold(com),
             feet: feet.map(Segment::hold),
             waist: (0.0, 0.0, 0.0),
+            yaw: [(0.0, 0.0, 0.0); 2],
+            planned_length: 0.0,
+            soles_yaw0: None,
+            measured_turn: 0.0,
             step: None,
             target: Vector3::zeros(),
             planned_z: 0.0,
@@ -245,7 +267,9 @@ impl TeleopWalk {
     /// Queues a step (dropped and counted if the queue is full, or if the step names no foot
     /// or is not finite).
     pub fn push(&mut self, step: PlannedStep) {
-        let finite = step.travel.iter().all(|x| x.is_finite()) && step.height.is_finite();
+        let finite = step.travel.iter().all(|x| x.is_finite())
+            && step.height.is_finite()
+            && step.turn.is_finite();
         if self.len == MAX_PENDING || step.foot > 1 || !finite {
             self.dropped += 1;
             return;
@@ -305,6 +329,24 @@ impl TeleopWalk {
         self.waist = (self.waist_at(t), to, t);
     }
 
+    /// Turns sole `k` to `to` (rad from its start) over the step's rise and descent.
+    fn turn_foot(&mut self, t: f64, k: usize, to: f64) {
+        self.yaw[k] = (self.yaw_at(t, k)[0], to, t);
+    }
+
+    /// Sole `k`'s turn and its rate at `t`.
+    fn yaw_at(&self, t: f64, k: usize) -> [f64; 2] {
+        let (from, to, start) = self.yaw[k];
+        let duration = 2.0 * self.spec.swing_time;
+        let [y, rate, _] = min_jerk_between(from, to, (t - start) / duration, duration);
+        [y, rate]
+    }
+
+    /// The robot's planned heading: the mean of the soles' planned turns (rad).
+    pub fn planned_turn(&self) -> f64 {
+        (self.yaw[0].1 + self.yaw[1].1) / 2.0
+    }
+
     fn waist_at(&self, t: f64) -> f64 {
         let (from, to, start) = self.waist;
         min_jerk_between(
@@ -326,6 +368,15 @@ impl TeleopWalk {
     ) -> WalkReferences {
         let dt = (t - self.last).max(0.0);
         self.last = t;
+        let yaw_of = |s: &Isometry3<f64>| s.rotation.euler_angles().2;
+        let yaw0 = *self
+            .soles_yaw0
+            .get_or_insert([yaw_of(&soles[0]), yaw_of(&soles[1])]);
+        let wrapped = |a: f64| {
+            (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+        };
+        self.measured_turn =
+            (wrapped(yaw_of(&soles[0]) - yaw0[0]) + wrapped(yaw_of(&soles[1]) - yaw0[1])) / 2.0;
         let e_com = self.spec.e_com;
         let e_foot = self.spec.e_foot;
         // Errors are taken from the feet that stand, measured against planned (the stance
@@ -372,8 +423,23 @@ impl TeleopWalk {
                     if com_reached(&self.com) {
                         let k = step.foot;
                         let from = self.feet[k].to;
-                        let travel = Vector3::new(step.travel.x, step.travel.y, 0.0);
+                        // The travel in the robot's heading now; a turning sole first swings
+                        // about the stance sole by the heading's change (half its turn: the
+                        // heading is the mean of the soles'), which keeps the feet's spacing
+                        // and turns it with the heading.
+                        let (s, c) = self.planned_turn().sin_cos();
+                        let (x, y) = (step.travel.x, step.travel.y);
+                        let mut travel = Vector3::new(c * x - s * y, s * x + c * y, 0.0);
+                        if step.turn != 0.0 {
+                            let pivot = self.feet[1 - k].to;
+                            let r = from - Vector3::new(pivot.x, pivot.y, from.z);
+                            let (s, c) = (step.turn / 2.0).sin_cos();
+                            let swung = Vector3::new(c * r.x - s * r.y, s * r.x + c * r.y, 0.0);
+                            travel += swung - Vector3::new(r.x, r.y, 0.0);
+                            self.turn_foot(t, k, self.yaw[k].1 + step.turn);
+                        }
                         self.target = from + travel;
+                        self.planned_length = travel.xy().norm();
                         self.planned_z = self.target.z;
                         self.lifted_from = sole(k);
                         self.unloaded = false;
@@ -423,7 +489,7 @@ impl TeleopWalk {
                         self.steps_done += 1;
                         if self.lengths.len() < MAX_RECORDED {
                             let walked = (sole(k) - self.lifted_from).xy().norm();
-                            self.lengths.push([step.travel.norm(), walked]);
+                            self.lengths.push([self.planned_length, walked]);
                         }
                         // Both soles loaded: the landed sole's reference goes back to the
                         // height planned for it — from above, where it first touched while
@@ -447,11 +513,15 @@ impl TeleopWalk {
         let (c, cv) = self.com.sample(t);
         let (l, lv) = self.feet[0].sample(t);
         let (r, rv) = self.feet[1].sample(t);
+        let [ly, lyv] = self.yaw_at(t, 0);
+        let [ry, ryv] = self.yaw_at(t, 1);
         WalkReferences {
             com: c,
             com_velocity: cv,
             feet: [l, r],
             feet_velocity: [lv, rv],
+            feet_yaw: [ly, ry],
+            feet_yaw_rate: [lyv, ryv],
             waist_offset: self.waist_at(t),
         }
     }
@@ -489,6 +559,7 @@ mod tests {
             foot: 0,
             travel: Vector2::new(0.1, 0.0),
             height: 0.025,
+            turn: 0.0,
         });
         let mut r = walk.update(
             0.0,
@@ -530,6 +601,77 @@ mod tests {
         assert!((r.com - Vector3::new(0.05, 0.0, 0.0)).norm() < 1e-3);
     }
 
+    /// Turning in place, 20° a step, four steps: the soles turn 40° each, stay side by side
+    /// across the new heading at their distance apart, and the next step's travel goes along
+    /// that heading.
+    #[test]
+    fn turning_steps_keep_the_feet_side_by_side_across_the_heading() {
+        let feet = [Vector3::new(0.0, 0.07, 0.0), Vector3::new(0.0, -0.07, 0.0)];
+        let mut walk = TeleopWalk::new(spec(), feet, Vector3::zeros());
+        let turn = 20f64.to_radians();
+        for k in 0..4 {
+            walk.push(PlannedStep {
+                foot: k % 2,
+                travel: Vector2::zeros(),
+                height: 0.02,
+                turn,
+            });
+        }
+        walk.push(PlannedStep {
+            foot: 0,
+            travel: Vector2::new(0.1, 0.0),
+            height: 0.02,
+            turn: 0.0,
+        });
+        let mut r = walk.references(0.0);
+        let dt = 0.01;
+        for k in 0..10_000 {
+            let t = k as f64 * dt;
+            let soles =
+                std::array::from_fn(|i| Isometry3::new(r.feet[i], Vector3::z() * r.feet_yaw[i]));
+            let forces = r.feet.map(|p| if p.z < 1e-4 { 160.0 } else { 0.0 });
+            r = walk.update(t, &r.com, &soles, forces);
+            if walk.steps_done == 4 && walk.state == WalkState::WalkingDoubleSupport {
+                break;
+            }
+        }
+        assert_eq!(walk.steps_done, 4);
+        let heading = 2.0 * turn;
+        assert!(
+            r.feet_yaw.iter().all(|y| (y - heading).abs() < 1e-9),
+            "{:?}",
+            r.feet_yaw
+        );
+        assert!((walk.planned_turn() - heading).abs() < 1e-12);
+        assert!(
+            (walk.measured_turn - heading).abs() < 1e-6,
+            "{}",
+            walk.measured_turn
+        );
+        // Side by side across the heading, 0.14 m apart (within the touchdown's 0.1 mm).
+        let across = (r.feet[0] - r.feet[1]).xy();
+        let (s, c) = heading.sin_cos();
+        let along = c * across.x + s * across.y;
+        assert!(
+            along.abs() < 1e-3 && (across.norm() - 0.14).abs() < 1e-3,
+            "{across:?}"
+        );
+        let left = r.feet[0];
+        for k in 0..5_000 {
+            let t = 100.0 + k as f64 * dt;
+            let soles =
+                std::array::from_fn(|i| Isometry3::new(r.feet[i], Vector3::z() * r.feet_yaw[i]));
+            let forces = r.feet.map(|p| if p.z < 1e-4 { 160.0 } else { 0.0 });
+            r = walk.update(t, &r.com, &soles, forces);
+        }
+        assert_eq!(walk.steps_done, 5);
+        let moved = (r.feet[0] - left).xy();
+        assert!(
+            (moved - Vector2::new(c, s) * 0.1).norm() < 1e-3,
+            "{moved:?}"
+        );
+    }
+
     #[test]
     fn a_sole_that_never_leaves_the_ground_never_ends_its_liftoff() {
         let feet = [Vector3::new(0.0, 0.07, 0.0), Vector3::new(0.0, -0.07, 0.0)];
@@ -538,6 +680,7 @@ mod tests {
             foot: 0,
             travel: Vector2::zeros(),
             height: 0.01,
+            turn: 0.0,
         });
         let mut r = walk.references(0.0);
         for k in 0..2000 {
@@ -554,11 +697,13 @@ mod tests {
                 foot: 2,
                 travel: Vector2::zeros(),
                 height: 0.0,
+                turn: 0.0,
             },
             PlannedStep {
                 foot: 0,
                 travel: Vector2::new(f64::NAN, 0.0),
                 height: 0.0,
+                turn: 0.0,
             },
         ] {
             walk.push(step);
@@ -575,6 +720,7 @@ mod tests {
                 foot: 1,
                 travel: Vector2::zeros(),
                 height: 0.05,
+                turn: 0.0,
             });
         }
         assert_eq!((walk.pending(), walk.dropped), (MAX_PENDING, 3));
