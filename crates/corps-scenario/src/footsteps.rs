@@ -42,7 +42,7 @@ pub enum StepFoot {
 #[serde(deny_unknown_fields)]
 pub struct Footstep {
     pub foot: StepFoot,
-    /// The sole's travel (m), in the robot's directions at the start.
+    /// The sole's travel (m), in the robot's directions when the step begins.
     #[serde(default)]
     pub forward: f64,
     #[serde(default)]

@@ -518,8 +518,8 @@ pub struct TeleopMetrics {
     pub steps_walked: usize,
     /// Steps never walked: the queue of pending steps was full (or a step was not valid).
     pub steps_dropped: usize,
-    /// Each step made: its planned length (Eq 6.6–6.7, or the scenario's footsteps) and the
-    /// measured one (m).
+    /// Each step made: its planned length (Eq 6.6–6.7, or the scenario's footsteps, a turning
+    /// step's swing included) and the measured one (m).
     pub step_lengths: Vec<StepLength>,
     /// Mean |measured − planned| step length (mm); 0 without a step.
     pub step_length_error_mm: f64,

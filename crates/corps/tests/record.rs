@@ -49,19 +49,14 @@ fn log(path: &std::path::Path) -> (Vec<String>, Vec<Vec<f64>>) {
     (header, rows)
 }
 
-#[test]
-fn a_recorded_walk_reads_back() {
+/// Runs `corps run SCENARIO EXTRA… --record -o DIR` into a new directory, which it returns.
+fn record(scenario: &str, extra: &[&str]) -> tempfile::TempDir {
     let dir = tempfile::tempdir().expect("a directory");
     let out = Command::new(env!("CARGO_BIN_EXE_corps"))
         .current_dir(repo(""))
-        .args([
-            "run",
-            "scenarios/walk/tsid_torque_20cm.toml",
-            "--duration",
-            "6",
-            "--record",
-            "-o",
-        ])
+        .args(["run", scenario])
+        .args(extra)
+        .args(["--record", "-o"])
         .arg(dir.path())
         .output()
         .expect("runs");
@@ -70,6 +65,12 @@ fn a_recorded_walk_reads_back() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    dir
+}
+
+#[test]
+fn a_recorded_walk_reads_back() {
+    let dir = record("scenarios/walk/tsid_torque_20cm.toml", &["--duration", "6"]);
     assert!(!dir.path().join("run.mcap.partial").exists());
     let topics = read(&dir.path().join("run.mcap"));
     let (header, rows) = log(&dir.path().join("log.csv"));
@@ -183,23 +184,7 @@ fn a_recorded_walk_reads_back() {
 /// writes no `/operator` message.
 #[test]
 fn a_teleoperation_recording_shows_the_operator() {
-    let dir = tempfile::tempdir().expect("a directory");
-    let out = Command::new(env!("CARGO_BIN_EXE_corps"))
-        .current_dir(repo(""))
-        .args([
-            "run",
-            "scenarios/teleop/talos_raise_hands.toml",
-            "--record",
-            "-o",
-        ])
-        .arg(dir.path())
-        .output()
-        .expect("runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let dir = record("scenarios/teleop/talos_raise_hands.toml", &[]);
     let topics = read(&dir.path().join("run.mcap"));
     let clip = corps_mocap::bvh::Bvh::read(&repo(
         "../shared/data/mocap/dataset-2_raise-up-both-hands_normal_001.bvh",
@@ -258,19 +243,9 @@ fn a_teleoperation_recording_shows_the_operator() {
         "the hands go up in this clip"
     );
 
-    let dir = tempfile::tempdir().expect("a directory");
-    let out = Command::new(env!("CARGO_BIN_EXE_corps"))
-        .current_dir(repo(""))
-        .args([
-            "run",
-            "scenarios/walk/tsid_torque_20cm.toml",
-            "--duration",
-            "0.5",
-        ])
-        .args(["--record", "-o"])
-        .arg(dir.path())
-        .output()
-        .expect("runs");
-    assert!(out.status.success());
+    let dir = record(
+        "scenarios/walk/tsid_torque_20cm.toml",
+        &["--duration", "0.5"],
+    );
     assert!(!read(&dir.path().join("run.mcap")).contains_key("/operator"));
 }

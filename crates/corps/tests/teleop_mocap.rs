@@ -235,12 +235,27 @@ fn the_s11_footsteps_are_walked_or_the_shortfall_is_listed() {
         if text.contains("S11 (c)") {
             assert!(count >= 15, "{name}: (c) asks for 15 steps or more");
         }
-        // A turning pattern: the robot turns as planned, within a tenth of the turn and 2°.
+        // A turning pattern: the robot's heading is half the sum of its steps' turns (the mean
+        // of the soles'), and the robot turns that much, within a tenth of it and 2°.
         let planned = m["turn_planned_deg"].as_f64().unwrap();
         let turned = m["turn_walked_deg"].as_f64().unwrap();
         if text.contains("turn = ") {
             table += &format!("{name:24} turned {turned:.1}° of {planned:.1}° planned\n");
             if verdict == "completed" && walked == count {
+                let scenario: toml::Value = toml::from_str(&text).unwrap();
+                let pattern = scenario["footsteps"]["pattern"].as_array().unwrap();
+                let heading: f64 = (pattern.iter().cycle().take(count as usize))
+                    .map(|s| {
+                        s.get("turn").map_or(0.0, |t| {
+                            t.as_float().or(t.as_integer().map(|i| i as f64)).unwrap()
+                        })
+                    })
+                    .sum::<f64>()
+                    / 2.0;
+                assert!(
+                    (planned - heading).abs() < 1e-9,
+                    "{name}: planned {planned}° against the pattern's {heading}°"
+                );
                 assert!(
                     planned.abs() > 1.0 && (turned - planned).abs() <= 0.1 * planned.abs() + 2.0,
                     "{name}: turned {turned:.1}° of {planned:.1}°"

@@ -158,7 +158,9 @@ pub struct TeleopVelocityController {
     walk: TeleopWalk,
     /// The waist's height (world z) held while walking: the operator's when the walk began.
     waist_stand: f64,
-    /// The robot's forward and left directions (world, horizontal) the operator's steps map onto.
+    /// The robot's forward and left directions (world, horizontal) at the start: the operator's
+    /// and the scenario's steps are given in them (the walk turns them with the robot's
+    /// heading when a step begins).
     heading: [Vector2<f64>; 2],
     walk_references: WalkReferences,
     /// The soles' orientations at the start, which their turns rotate about the vertical.
@@ -180,14 +182,16 @@ struct Following {
 const FEET: [&str; 2] = ["foot_left", "foot_right"];
 
 /// A horizontal travel given in the robot's directions at the start (`heading`: forward, left),
-/// in the world.
+/// in the world (as the robot stood at the start).
 fn in_world(heading: [Vector2<f64>; 2], travel: Vector2<f64>) -> Vector2<f64> {
     heading[0] * travel.x + heading[1] * travel.y
 }
 
 impl TeleopVelocityController {
     /// The stack for `robot` standing at `q`, following `operator` if given, and walking
-    /// `footsteps` (each in the robot's own directions at the start: x forward, y left).
+    /// `footsteps` (each in the robot's own directions when it begins: x forward, y left).
+    /// Turning footsteps are for walking without an operator (the neck's reference, the
+    /// operator's, does not turn): with one, they are an error.
     pub fn new(
         robot: &Robot,
         config: TeleopVelocityConfig,
@@ -326,6 +330,11 @@ impl TeleopVelocityController {
         }
         let walk_references = walk.references(0.0);
         let turning = footsteps.iter().any(|s| s.turn != 0.0);
+        if turning && following.is_some() {
+            return Err(invalid!(
+                "footsteps: turning steps (turn ≠ 0) walk without an operator; remove [mocap] or the turns"
+            ));
+        }
         let waist_rotation0 = state.frame_placement(&model, robot.base)?.rotation;
         // The free-flyer's configuration (none for a fixed base).
         let base_len = if model.has_free_flyer() { 7 } else { 0 };

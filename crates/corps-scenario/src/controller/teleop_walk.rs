@@ -15,7 +15,9 @@
 //! the operator's steps do not turn): its landing point is its start swung about the stance
 //! sole by the robot's change of heading (the heading is the mean of the soles' turns, so half
 //! the step's turn), plus its travel, taken in the robot's heading at the step's start; the
-//! sole's yaw follows a minimum-jerk profile over the rise and the descent.
+//! sole's yaw reference follows a minimum-jerk profile over twice `swing_time` from the moment
+//! the rise is commanded (the rise and the descent when the sole leaves the ground at once).
+//! Turns are meant for alternating feet: nothing bounds the yaw between the two soles.
 //!
 //! With no step pending, i ends in the teleoperation double support (2a). Every reference moves
 //! along a minimum-jerk profile; the waist goes `waist_drop` lower during the liftoff and
@@ -198,8 +200,10 @@ pub struct TeleopWalk {
     yaw: [(f64, f64, f64); 2],
     /// The planned horizontal length of the step under way (m).
     planned_length: f64,
-    /// The measured soles' yaw at the first update, and their mean turn since (rad).
-    soles_yaw0: Option<[f64; 2]>,
+    /// The measured soles' yaw at the last update and their turns since the first, summed
+    /// update by update (so past ±180°); `measured_turn` is their mean (rad).
+    soles_yaw: Option<[f64; 2]>,
+    soles_turn: [f64; 2],
     pub measured_turn: f64,
     /// The step under way.
     step: Option<PlannedStep>,
@@ -214,9 +218,9 @@ pub struct TeleopWalk {
     pub steps_done: usize,
     /// Steps dropped: the queue was full, or the step was not valid.
     pub dropped: usize,
-    /// Each step made: the planned horizontal length (Eq 6.6–6.7, or the scenario's footsteps)
-    /// and the measured one (the
-    /// sole from liftoff to the swap), up to [`MAX_RECORDED`] steps.
+    /// Each step made: the planned horizontal length of the sole's move (Eq 6.6–6.7, or the
+    /// scenario's footsteps, a turning step's swing included) and the measured one (the sole
+    /// from liftoff to the swap), up to [`MAX_RECORDED`] steps.
     pub lengths: Vec<[f64; 2]>,
     /// The swing sole (measured) when the step began, and whether it has been seen off the
     /// ground (below `f_contact`) since.
@@ -237,7 +241,8 @@ impl TeleopWalk {
             waist: (0.0, 0.0, 0.0),
             yaw: [(0.0, 0.0, 0.0); 2],
             planned_length: 0.0,
-            soles_yaw0: None,
+            soles_yaw: None,
+            soles_turn: [0.0; 2],
             measured_turn: 0.0,
             step: None,
             target: Vector3::zeros(),
@@ -368,15 +373,16 @@ impl TeleopWalk {
     ) -> WalkReferences {
         let dt = (t - self.last).max(0.0);
         self.last = t;
-        let yaw_of = |s: &Isometry3<f64>| s.rotation.euler_angles().2;
-        let yaw0 = *self
-            .soles_yaw0
-            .get_or_insert([yaw_of(&soles[0]), yaw_of(&soles[1])]);
+        let yaw = soles.map(|s| s.rotation.euler_angles().2);
+        let last = *self.soles_yaw.get_or_insert(yaw);
         let wrapped = |a: f64| {
             (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
         };
-        self.measured_turn =
-            (wrapped(yaw_of(&soles[0]) - yaw0[0]) + wrapped(yaw_of(&soles[1]) - yaw0[1])) / 2.0;
+        for k in 0..2 {
+            self.soles_turn[k] += wrapped(yaw[k] - last[k]);
+        }
+        self.soles_yaw = Some(yaw);
+        self.measured_turn = (self.soles_turn[0] + self.soles_turn[1]) / 2.0;
         let e_com = self.spec.e_com;
         let e_foot = self.spec.e_foot;
         // Errors are taken from the feet that stand, measured against planned (the stance
@@ -444,7 +450,7 @@ impl TeleopWalk {
                         self.lifted_from = sole(k);
                         self.unloaded = false;
                         self.move_foot(t, k, from + travel / 2.0 + Vector3::z() * step.height);
-                        if self.short(&step) {
+                        if self.short() {
                             self.move_waist(t, -self.spec.waist_drop);
                         }
                         self.state = WalkState::Liftoff;
@@ -472,7 +478,7 @@ impl TeleopWalk {
                     if touched {
                         let to = mid(&self.feet);
                         self.move_com(t, to);
-                        if self.short(&step) {
+                        if self.short() {
                             self.move_waist(t, 0.0);
                         }
                         self.state = WalkState::Landing;
@@ -526,8 +532,10 @@ impl TeleopWalk {
         }
     }
 
-    fn short(&self, step: &PlannedStep) -> bool {
-        step.travel.norm() <= self.spec.short_step
+    /// A step whose sole moves no more than `short_step` (its travel, and its swing when it
+    /// turns).
+    fn short(&self) -> bool {
+        self.planned_length <= self.spec.short_step
     }
 }
 
@@ -648,7 +656,8 @@ mod tests {
             "{}",
             walk.measured_turn
         );
-        // Side by side across the heading, 0.14 m apart (within the touchdown's 0.1 mm).
+        // Side by side across the heading, 0.14 m apart (within 1 mm: the sole stops where it
+        // first touches, 0.1 mm above the ground, and the next steps start from there).
         let across = (r.feet[0] - r.feet[1]).xy();
         let (s, c) = heading.sin_cos();
         let along = c * across.x + s * across.y;
