@@ -187,6 +187,11 @@ fn in_world(heading: [Vector2<f64>; 2], travel: Vector2<f64>) -> Vector2<f64> {
     heading[0] * travel.x + heading[1] * travel.y
 }
 
+/// `rotation` turned by `yaw` about the world's vertical.
+fn turned(yaw: f64, rotation: &Matrix3<f64>) -> Matrix3<f64> {
+    Rotation3::from_axis_angle(&Vector3::z_axis(), yaw).matrix() * rotation
+}
+
 impl TeleopVelocityController {
     /// The stack for `robot` standing at `q`, following `operator` if given, and walking
     /// `footsteps` (each in the robot's own directions when it begins: x forward, y left).
@@ -310,7 +315,8 @@ impl TeleopVelocityController {
             .translation
             .z
             .min(feet0[1].placement.translation.z);
-        let waist_z = state.frame_placement(&model, robot.base)?.translation.z;
+        let waist0 = state.frame_placement(&model, robot.base)?;
+        let waist_z = waist0.translation.z;
         let n = joints.len();
         let soles_rotation0 = [feet0[0].placement.rotation, feet0[1].placement.rotation];
         let soles = feet0.map(|f| f.placement.translation);
@@ -335,7 +341,6 @@ impl TeleopVelocityController {
                 "footsteps: turning steps (turn ≠ 0) walk without an operator; remove [mocap] or the turns"
             ));
         }
-        let waist_rotation0 = state.frame_placement(&model, robot.base)?.rotation;
         // The free-flyer's configuration (none for a fixed base).
         let base_len = if model.has_free_flyer() { 7 } else { 0 };
         let mut q_ref = robot.posture.clone();
@@ -375,7 +380,7 @@ impl TeleopVelocityController {
             walk_references,
             soles_rotation0,
             turning,
-            waist_rotation0,
+            waist_rotation0: waist0.rotation,
             sway_damping: config.gains.sway_damping,
             model,
         })
@@ -485,8 +490,7 @@ impl TeleopVelocityController {
             foot.placement.translation = walk.feet[k];
             foot.velocity.linear = walk.feet_velocity[k];
             if self.turning {
-                let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), walk.feet_yaw[k]);
-                foot.placement.rotation = turn.matrix() * self.soles_rotation0[k];
+                foot.placement.rotation = turned(walk.feet_yaw[k], &self.soles_rotation0[k]);
                 foot.velocity.angular = Vector3::z() * walk.feet_yaw_rate[k];
             }
         }
@@ -508,8 +512,7 @@ impl TeleopVelocityController {
         waist.placement.translation.z = waist_z;
         if self.turning {
             let heading = (walk.feet_yaw[0] + walk.feet_yaw[1]) / 2.0;
-            let turn = Rotation3::from_axis_angle(&Vector3::z_axis(), heading);
-            waist.placement.rotation = turn.matrix() * self.waist_rotation0;
+            waist.placement.rotation = turned(heading, &self.waist_rotation0);
             waist.velocity.angular =
                 Vector3::z() * ((walk.feet_yaw_rate[0] + walk.feet_yaw_rate[1]) / 2.0);
         }

@@ -433,15 +433,10 @@ impl TeleopWalk {
                         // about the stance sole by the heading's change (half its turn: the
                         // heading is the mean of the soles'), which keeps the feet's spacing
                         // and turns it with the heading.
-                        let (s, c) = self.planned_turn().sin_cos();
-                        let (x, y) = (step.travel.x, step.travel.y);
-                        let mut travel = Vector3::new(c * x - s * y, s * x + c * y, 0.0);
+                        let mut travel = turned(self.planned_turn(), step.travel);
                         if step.turn != 0.0 {
-                            let pivot = self.feet[1 - k].to;
-                            let r = from - Vector3::new(pivot.x, pivot.y, from.z);
-                            let (s, c) = (step.turn / 2.0).sin_cos();
-                            let swung = Vector3::new(c * r.x - s * r.y, s * r.x + c * r.y, 0.0);
-                            travel += swung - Vector3::new(r.x, r.y, 0.0);
+                            let r = (from - self.feet[1 - k].to).xy();
+                            travel += turned(step.turn / 2.0, r) - Vector3::new(r.x, r.y, 0.0);
                             self.turn_foot(t, k, self.yaw[k].1 + step.turn);
                         }
                         self.target = from + travel;
@@ -537,6 +532,12 @@ impl TeleopWalk {
     fn short(&self) -> bool {
         self.planned_length <= self.spec.short_step
     }
+}
+
+/// The horizontal `v` turned by `angle` about the vertical (z = 0).
+fn turned(angle: f64, v: Vector2<f64>) -> Vector3<f64> {
+    let (s, c) = angle.sin_cos();
+    Vector3::new(c * v.x - s * v.y, s * v.x + c * v.y, 0.0)
 }
 
 #[cfg(test)]

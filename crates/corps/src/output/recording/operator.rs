@@ -3,17 +3,16 @@
 //! same time (the frame at `t`, the last one held after the clip ends).
 
 use corps_mocap::bvh::Bvh;
-use corps_mocap::skeleton::{Pose, Skeleton, Units};
+use corps_mocap::skeleton::Units;
+use corps_mocap::source::{ClipSource, MocapSource};
 use nalgebra::Vector3;
 
 /// How far to the robot's left (+y) the operator stands in the view (m).
 pub const BESIDE: f64 = 1.0;
 
-/// A clip's skeleton placed beside the robot.
+/// A clip's skeleton placed beside the robot, read through the controller's own source.
 pub struct OperatorView {
-    clip: Bvh,
-    skeleton: Skeleton,
-    pose: Pose,
+    source: ClipSource,
     /// World shift of the clip: its first frame's root over the point `BESIDE` to the left
     /// of the robot's first CoM, its lowest joint on the ground; set at the first view.
     shift: Option<Vector3<f64>>,
@@ -22,12 +21,8 @@ pub struct OperatorView {
 impl OperatorView {
     /// The view of `clip`, read with `units`.
     pub fn new(clip: Bvh, units: Units) -> OperatorView {
-        let skeleton = Skeleton::new(&clip, units);
-        let pose = skeleton.empty_pose();
         OperatorView {
-            clip,
-            skeleton,
-            pose,
+            source: ClipSource::new(clip, units),
             shift: None,
         }
     }
@@ -39,17 +34,15 @@ impl OperatorView {
         t: f64,
         robot_com: Vector3<f64>,
     ) -> (Vec<Vector3<f64>>, Vec<Vector3<f64>>) {
-        let frames = self.clip.frames();
-        if frames == 0 {
+        if self.source.bvh().frames() == 0 {
             return (Vec::new(), Vec::new());
         }
         let shift = match self.shift {
             Some(s) => s,
             None => {
-                self.skeleton
-                    .pose_into(self.clip.frame(0), 0.0, &mut self.pose);
-                let root = self.pose.world[0].translation.vector;
-                let lowest = (self.pose.world.iter())
+                let (first, _) = self.source.poll(0.0);
+                let root = first.world[0].translation.vector;
+                let lowest = (first.world.iter())
                     .map(|w| w.translation.vector.z)
                     .fold(f64::INFINITY, f64::min);
                 let s = Vector3::new(robot_com.x - root.x, robot_com.y + BESIDE - root.y, -lowest);
@@ -57,18 +50,12 @@ impl OperatorView {
                 s
             }
         };
-        let k = if t.is_finite() && t > 0.0 {
-            ((t / self.clip.frame_time + 1e-9).floor() as usize).min(frames - 1)
-        } else {
-            0
-        };
-        let time = k as f64 * self.clip.frame_time;
-        self.skeleton
-            .pose_into(self.clip.frame(k), time, &mut self.pose);
-        let joints: Vec<Vector3<f64>> = (self.pose.world.iter())
+        // Before the first frame (t < 0) the source has no pose: the first frame stands.
+        let (pose, _) = self.source.poll(t.max(0.0));
+        let joints: Vec<Vector3<f64>> = (pose.world.iter())
             .map(|w| w.translation.vector + shift)
             .collect();
-        let bones = (self.skeleton.joints.iter().enumerate())
+        let bones = (self.source.skeleton().joints.iter().enumerate())
             .filter_map(|(i, j)| j.parent.map(|p| [joints[p], joints[i]]))
             .flatten()
             .collect();
