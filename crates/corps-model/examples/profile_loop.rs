@@ -32,6 +32,7 @@ fn main() {
             }
         };
         std::hint::black_box(r).expect("valid state");
+        std::hint::black_box(&mut data);
     }
     eprintln!(
         "{algo}: {:.3} us/call",
