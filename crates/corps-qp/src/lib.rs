@@ -62,7 +62,12 @@
 //!   (stationarity and primal residuals, 1e-6 relative to the magnitude of their terms); one
 //!   that misses them (the dual method on a Hessian with cond ~1e12 can return one) goes to
 //!   the proximal fallback, and if that produces none that meets them the solve ends
-//!   [`QpError::Inaccurate`]: no answer rather than a wrong one.
+//!   [`QpError::Inaccurate`]: no answer rather than a wrong one. The fallback ends by solving
+//!   the original problem on the active set its iterations found (null-space method: QR of
+//!   the active normals, Cholesky of the reduced Hessian), where they creep along H's small
+//!   eigenvalues; an accepted answer whose residual is over 1e-9 is solved again that way
+//!   and the more accurate one kept (`tests/ill_conditioned.rs`: 80 + 27 of 1,000 unsolved or
+//!   refused, against 92 + 37 before).
 //! - **Infeasibility certificate.** After `Infeasible`,
 //!   [`ActiveSetSolver::infeasibility_certificate`] lists constraints that alone admit no
 //!   point: the violated constraint with the active ones its normal combines, an empty
@@ -146,6 +151,7 @@ mod cholesky;
 mod givens;
 mod hierarchical;
 mod linalg;
+mod polish;
 mod problem;
 mod status;
 

@@ -273,13 +273,16 @@ proptest! {
 /// (`ActiveSetSolver::solve_proximal`) about one in five of these feasible problems was
 /// reported infeasible (76 of 400). Now every one is solved with Clarabel's objective to 1e-6
 /// (relative). Two bounds still fail in a few problems, counted here as known shortfalls:
-/// the KKT residuals ≤ 1e-9 scaled (4 of 1000, worst 2.2e-7 when measured), and x
-/// at the constructed optimum x0 to 1e-6 (2 of 1000, worst 1.0e-4: along directions where H
-/// is 1e-9, the objective cannot tell them apart). Fewer fails nothing; more fails.
+/// the KKT residuals ≤ 1e-9 scaled (3 of 1000, worst 7.1e-8 when measured: rows
+/// outside the final active set violated by up to 2.8e-7, which solving again on the active
+/// set cannot reach; 4, worst 2.2e-7, before answers were tightened on their active set), and
+/// x at the constructed optimum x0 to 1e-6 (1 of 1000, worst 1.0e-4: along directions where
+/// H is 1e-9, the objective cannot tell them apart; 2 before). Fewer fails nothing; more
+/// fails.
 #[test]
 fn degenerate_vertices_with_flat_hessian_are_solved() {
-    const KNOWN_OVER: usize = 4;
-    const KNOWN_FAR: usize = 2;
+    const KNOWN_OVER: usize = 3;
+    const KNOWN_FAR: usize = 1;
     let mut rng = ChaCha8Rng::seed_from_u64(0xf1a7);
     let (mut over, mut worst, mut far, mut worst_dx) = (0, 0.0f64, 0, 0.0f64);
     for case in 0..1000 {
