@@ -60,8 +60,8 @@ def corps_model(urdf):
     for j in d["joints"]:
         axis = np.array(j["axis"]) if j["axis"] is not None else None
         joints.append(SimpleNamespace(
-            shortname=lambda kind=j["kind"]: SHORTNAMES[kind], idx_q=j["idx_q"], idx_v=j["idx_v"],
-            nv=j["nv"], extract=lambda axis=axis: SimpleNamespace(axis=axis)))
+            name=j["name"], shortname=lambda kind=j["kind"]: SHORTNAMES[kind], idx_q=j["idx_q"],
+            idx_v=j["idx_v"], nv=j["nv"], extract=lambda axis=axis: SimpleNamespace(axis=axis)))
         placements.append(SimpleNamespace(rotation=np.array(j["rotation"]),
                                           translation=np.array(j["translation"])))
         parents.append(0 if j["parent"] is None else j["parent"] + 1)
@@ -92,6 +92,11 @@ def main():
         model = pin.buildModelFromUrdf(os.path.join(REPO, urdf), pin.JointModelFreeFlyer())
         ours = corps_model(urdf)
         assert ours.nv == model.nv and ours.njoints == model.njoints, urdf
+        # The same joints in the same order (the states' q and v index both models alike); the
+        # root is Pinocchio's "root_joint" and corps' own name for it.
+        for i in range(2, model.njoints):
+            j, pj = ours.joints[i], model.joints[i]
+            assert (j.name, j.idx_q, j.idx_v) == (model.names[i], pj.idx_q, pj.idx_v), (urdf, i)
         data = model.createData()
         rng = np.random.default_rng(SEED + n)
         states = []

@@ -54,13 +54,22 @@ fn median(mut x: Vec<f64>) -> f64 {
 /// The issue's target: corps' residual within 3× of Pinocchio's (the median over the states).
 const TARGET: f64 = 3.0;
 
-/// Ledger per robot: (urdf, median ratio) as measured; it may shrink, not grow. The states over
-/// 3× are printed, not held: the ratio of two rounding residuals is noisy state by state.
-const LEDGER: [(&str, f64); 3] = [
-    ("robots/icub_description/robots/icub.urdf", 0.84),
-    ("robots/icub_description/robots/icub_reduced.urdf", 0.86),
-    ("robots/talos_data/robots/talos_reduced.urdf", 0.85),
+/// Ledger per robot: (urdf, median ratio against the exact answer of corps' model, the same
+/// against Pinocchio's model), as measured; it may shrink, not grow (by more than
+/// [`LEDGER_SLACK`]: the figures are deterministic, the slack only absorbs a change of
+/// compiler). The states over 3× are printed, not held: the ratio of two rounding residuals
+/// is noisy state by state.
+const LEDGER: [(&str, f64, f64); 3] = [
+    ("robots/icub_description/robots/icub.urdf", 0.84, 0.89),
+    (
+        "robots/icub_description/robots/icub_reduced.urdf",
+        0.86,
+        3.51,
+    ),
+    ("robots/talos_data/robots/talos_reduced.urdf", 0.85, 1.00),
 ];
+const LEDGER_SLACK: f64 = 0.05;
+
 #[test]
 fn aba_residual_is_within_3x_of_pinocchio_and_agrees_where_pinocchio_is_exact() {
     let path = repo_path("crates/corps-model/tests/golden/aba_precision.json");
@@ -136,10 +145,17 @@ fn aba_residual_is_within_3x_of_pinocchio_and_agrees_where_pinocchio_is_exact() 
                 "{urdf}: relative error {worst_rel:.2e} where Pinocchio's residual <= 1e-12"
             ));
         }
-        let &(_, ledger_median) = LEDGER.iter().find(|(u, ..)| *u == urdf).unwrap();
-        if med > ledger_median.max(TARGET) + 0.005 {
+        let &(_, ledger_own, ledger_other) = LEDGER.iter().find(|(u, ..)| *u == urdf).unwrap();
+        let other = median(ratios_other_model.clone());
+        if med > ledger_own + LEDGER_SLACK {
             failures.push(format!(
-                "{urdf}: median residual ratio {med:.3}, the ledger says {ledger_median}"
+                "{urdf}: median residual ratio {med:.3}, the ledger says {ledger_own}"
+            ));
+        }
+        if other > ledger_other + LEDGER_SLACK {
+            failures.push(format!(
+                "{urdf}: median residual ratio against Pinocchio's model {other:.3}, the ledger \
+                 says {ledger_other}"
             ));
         }
     }

@@ -140,6 +140,8 @@ pub struct ActiveSetSolver {
     polish: PolishWork,
     /// The last [`ActiveSetSolver::kkt_residual`] measured (of the solution held).
     residual: f64,
+    /// The solution held is already the solve on its active set (the fallback's last step).
+    polished: bool,
     /// The answer [`ActiveSetSolver::tighten`] tries to improve, and its multipliers.
     kept: Solution,
     um_kept: Vec<f64>,
@@ -221,6 +223,7 @@ impl ActiveSetSolver {
             kkt_work: Vec::new(),
             polish: PolishWork::default(),
             residual: f64::INFINITY,
+            polished: false,
             kept: Solution::new(0, 0, 0),
             um_kept: Vec::new(),
         };
@@ -420,6 +423,7 @@ impl ActiveSetSolver {
             self.final_ok = false;
         }
         // `load` left the certificate empty.
+        self.polished = false;
         let mut inaccurate = false;
         let first = match self.solve_both_ways::<F>() {
             // An answer that misses the optimality conditions (the dual method on an
@@ -463,7 +467,7 @@ impl ActiveSetSolver {
     /// the solve's acceptance measured.
     fn tighten<const F: bool>(&mut self) {
         let before = self.residual;
-        if before <= POLISH_ABOVE {
+        if before <= POLISH_ABOVE || self.polished {
             return;
         }
         let kept = &mut self.kept;
@@ -476,7 +480,10 @@ impl ActiveSetSolver {
         kept.active_set.clone_from(&self.sol.active_set);
         let (n, m) = (self.n, self.active.len());
         self.um_kept[..m].copy_from_slice(&self.um[..m]);
-        let polished = self.solve_on_last_active_set::<F>() && self.kkt_residual::<F>() < before;
+        // Signs held to the same accuracy: the answer kept must not trade a residual for a
+        // multiplier of the wrong sign, which the residual does not measure.
+        let polished =
+            self.solve_on_last_active_set::<F>(POLISH_ABOVE) && self.kkt_residual::<F>() < before;
         if polished {
             let x = self.sol.x.as_slice();
             let mut objective = 0.0;
@@ -548,11 +555,15 @@ impl ActiveSetSolver {
     /// last: the iterates converge to the optimum of the original problem (Rockafellar 1976),
     /// in a few steps once the active set settles. A proof from these well-conditioned solves
     /// stands. ρ = [`PROX_SCALE`] · max Hᵢᵢ; at most [`PROX_ITERS`] solves, stopping when the
-    /// step is below 1e-12 (relative). The result's multipliers are the last solve's (their
-    /// KKT residual for the original problem is ρ‖x_{k+1} − x_k‖); the objective is the
-    /// original's. An answer that did not converge or misses the original problem's
-    /// optimality conditions by more than [`PROX_ACCEPT`] is not returned: the solve then
-    /// ends `Infeasible`, as it would have without the fallback.
+    /// step is below 1e-12 (relative). A converged answer that meets the original problem's
+    /// optimality conditions to [`PROX_ACCEPT`] is returned with the last solve's multipliers
+    /// (their KKT residual for the original problem is ρ‖x_{k+1} − x_k‖). Otherwise (the
+    /// iterations creep along H's small eigenvalues without converging, or the converged
+    /// answer misses the conditions) the original problem is solved on the active set the
+    /// last solve ended with ([`ActiveSetSolver::solve_on_last_active_set`]), and that
+    /// answer is returned if it meets the conditions with signed multipliers. Either way the
+    /// objective is the original's. With neither, the solve ends `Infeasible`, as it would
+    /// have without the fallback.
     fn solve_proximal<const F: bool>(&mut self) -> Result<(), QpError> {
         let n = self.n;
         let max_diag = (0..n).map(|i| self.h[i * n + i]).fold(0.0f64, f64::max);
@@ -597,8 +608,10 @@ impl ActiveSetSolver {
         self.final_ok = false;
         self.prev.clear();
         if result.is_ok() {
-            let accepted = (converged && self.meets_kkt::<F>(PROX_ACCEPT))
-                || self.solve_on_last_active_set::<F>();
+            let accepted = (converged && self.meets_kkt::<F>(PROX_ACCEPT)) || {
+                self.polished = self.solve_on_last_active_set::<F>(PROX_ACCEPT);
+                self.polished
+            };
             if !accepted {
                 // No better answer than the proof the fallback was called to check.
                 self.certificate.clear();
@@ -620,8 +633,12 @@ impl ActiveSetSolver {
     /// few steps but then creep along H's small eigenvalues. Accepted when the inequalities'
     /// multipliers have their sign (to rounding) and the answer meets the optimality conditions
     /// to [`PROX_ACCEPT`]; the solution then holds it (its objective is left to the caller).
-    fn solve_on_last_active_set<const F: bool>(&mut self) -> bool {
+    /// `sign_tol`: how negative an inequality's `u ‖n‖` may be, relative to the gradient.
+    fn solve_on_last_active_set<const F: bool>(&mut self, sign_tol: f64) -> bool {
         let (n, ne, ni, m) = (self.n, self.ne, self.ni, self.active.len());
+        if m > n {
+            return false;
+        }
         for (k, &e) in self.active.iter().enumerate() {
             let col = &mut self.polish.normals[k * n..(k + 1) * n];
             if e.id < ne + ni {
@@ -643,9 +660,8 @@ impl ActiveSetSolver {
         if !polish::solve_on_active_set(&self.h, &self.g[..n], n, m, &mut self.polish, x, u) {
             return false;
         }
-        // A multiplier's sign is judged on the scale of the gradient it balances (H x and g),
-        // not on the other multipliers': nearly dependent equality rows can carry opposite
-        // multipliers of 1e10 that cancel.
+        // A multiplier's sign is judged by the force it puts in the gradient (u ‖n‖) on the
+        // scale of the gradient it balances (H x and g), not on the other multipliers'.
         let x = &self.x[..n];
         let scale = (0..n).fold(1.0f64, |s, i| {
             let hx: f64 = (0..n).map(|k| self.h[k * n + i] * x[k]).sum();
@@ -655,7 +671,8 @@ impl ActiveSetSolver {
             .active
             .iter()
             .zip(&self.um[..m])
-            .all(|(e, u)| e.id < ne || *u >= -PROX_ACCEPT * scale);
+            .zip(&self.polish.norms[..m])
+            .all(|((e, u), norm)| e.id < ne || u * norm >= -sign_tol * scale);
         if !signed {
             return false;
         }

@@ -66,7 +66,7 @@
 //!   the original problem on the active set its iterations found (null-space method: QR of
 //!   the active normals, Cholesky of the reduced Hessian), where they creep along H's small
 //!   eigenvalues; an accepted answer whose residual is over 1e-9 is solved again that way
-//!   and the more accurate one kept (`tests/ill_conditioned.rs`: 80 + 27 of 1,000 unsolved or
+//!   and the more accurate one kept (`tests/ill_conditioned.rs`: 80 + 32 of 1,000 unsolved or
 //!   refused, against 92 + 37 before).
 //! - **Infeasibility certificate.** After `Infeasible`,
 //!   [`ActiveSetSolver::infeasibility_certificate`] lists constraints that alone admit no

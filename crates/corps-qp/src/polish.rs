@@ -15,14 +15,17 @@
 /// Buffers of [`solve_on_active_set`] for up to `n` variables.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct PolishWork {
-    /// The active normals (column-major, `n × m`), overwritten by their QR (R above the
-    /// diagonal, the reflectors below it).
+    /// The active normals (column-major, `n × m`), overwritten by their QR (R on and above
+    /// the diagonal, the reflectors below it).
     pub normals: Vec<f64>,
     /// Right-hand sides β of the active constraints.
     pub beta: Vec<f64>,
+    /// The normals' norms (before the QR).
+    pub norms: Vec<f64>,
     tau: Vec<f64>,
-    /// Q (column-major, `n × n`), then H Q₂ in its first `n − m` columns' space.
+    /// Q (column-major, `n × n`).
     q: Vec<f64>,
+    /// H Q₂ (column-major, `n × (n − m)`).
     hq: Vec<f64>,
     /// The reduced Hessian Q₂ᵀ H Q₂ and its Cholesky factor.
     reduced: Vec<f64>,
@@ -34,6 +37,7 @@ impl PolishWork {
     pub fn resize(&mut self, n: usize) {
         self.normals = vec![0.0; n * n];
         self.beta = vec![0.0; n];
+        self.norms = vec![0.0; n];
         self.tau = vec![0.0; n];
         self.q = vec![0.0; n * n];
         self.hq = vec![0.0; n * n];
@@ -43,9 +47,15 @@ impl PolishWork {
     }
 }
 
+/// A normal whose component outside the span of the ones before it is below this fraction
+/// of its norm makes N rank deficient: near copies of a row (1e-10 apart) would otherwise
+/// take opposite multipliers of 1e10 whose rounding swamps the optimality conditions.
+const RANK_TOL: f64 = 1e-8;
+
 /// Solves the QP above for the `m` normals and right-hand sides in `w.normals` / `w.beta`:
-/// `x` (n) and the multipliers `u` (m). `h` is column-major `n × n`. False when N is
-/// numerically rank deficient or the reduced Hessian is not positive definite.
+/// `x` (n) and the multipliers `u` (m); also leaves the normals' norms in `w.norms`. `h` is
+/// column-major `n × n`. False when N is numerically rank deficient ([`RANK_TOL`]) or the
+/// reduced Hessian is not positive definite.
 pub(crate) fn solve_on_active_set(
     h: &[f64],
     g: &[f64],
@@ -59,8 +69,10 @@ pub(crate) fn solve_on_active_set(
         return false;
     }
     let nm = &mut w.normals[..n * m];
+    for (norm, col) in w.norms.iter_mut().zip(nm.chunks_exact(n)) {
+        *norm = col.iter().map(|v| v * v).sum::<f64>().sqrt();
+    }
     // Householder QR: column k's reflector v (v_k = 1 implied) below the diagonal, τ in tau.
-    let mut largest = 0.0f64;
     for k in 0..m {
         let col = &mut nm[k * n..(k + 1) * n];
         let norm = col[k..].iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -74,7 +86,9 @@ pub(crate) fn solve_on_active_set(
         }
         w.tau[k] = -v0 / alpha;
         col[k] = alpha;
-        largest = largest.max(alpha.abs());
+        if alpha.abs() <= RANK_TOL * w.norms[k] {
+            return false;
+        }
         let (done, rest) = nm.split_at_mut((k + 1) * n);
         let v = &done[k * n..];
         for c in rest.chunks_exact_mut(n).take(m - k - 1) {
@@ -90,9 +104,6 @@ pub(crate) fn solve_on_active_set(
                 *ci -= s * vi;
             }
         }
-    }
-    if (0..m).any(|k| nm[k * n + k].abs() <= 1e-13 * largest) {
-        return false;
     }
     // Q = H₀ H₁ … H_{m−1} applied to the identity, from the last reflector back.
     let q = &mut w.q[..n * n];
@@ -258,6 +269,36 @@ mod tests {
             let hx: f64 = (0..n).map(|k| h[k * n + i] * x[k]).sum();
             let nu: f64 = (0..m).map(|k| normals[k * n + i] * u[k]).sum();
             assert!((hx + g[i] - nu).abs() < 1e-12, "stationarity {i}");
+        }
+    }
+
+    /// No active constraint: the unconstrained minimum, H x = −g. As many as variables: the
+    /// vertex, Nᵀ x = β, and the multipliers from H x + g = N u.
+    #[test]
+    fn handles_no_and_all_constraints() {
+        let n = 3;
+        let h = [4.0, 1.0, 0.0, 1.0, 3.0, 0.5, 0.0, 0.5, 2.0];
+        let g = [1.0, -2.0, 0.5];
+        let mut w = PolishWork::default();
+        w.resize(n);
+        let (mut x, mut u) = (vec![0.0; n], vec![0.0; n]);
+        assert!(solve_on_active_set(&h, &g, n, 0, &mut w, &mut x, &mut u));
+        for i in 0..n {
+            let hx: f64 = (0..n).map(|k| h[k * n + i] * x[k]).sum();
+            assert!((hx + g[i]).abs() < 1e-14);
+        }
+        let normals = [1.0, 0.0, 1.0, 0.0, 2.0, 0.0, 1.0, 1.0, 0.0];
+        w.normals[..9].copy_from_slice(&normals);
+        w.beta[..3].copy_from_slice(&[1.0, -1.0, 0.5]);
+        assert!(solve_on_active_set(&h, &g, n, n, &mut w, &mut x, &mut u));
+        for k in 0..n {
+            let nx: f64 = (0..n).map(|i| normals[k * n + i] * x[i]).sum();
+            assert!((nx - [1.0, -1.0, 0.5][k]).abs() < 1e-14);
+        }
+        for i in 0..n {
+            let hx: f64 = (0..n).map(|k| h[k * n + i] * x[k]).sum();
+            let nu: f64 = (0..n).map(|k| normals[k * n + i] * u[k]).sum();
+            assert!((hx + g[i] - nu).abs() < 1e-13);
         }
     }
 

@@ -76,10 +76,11 @@ fn problem(rng: &mut ChaCha8Rng) -> QpProblem {
 ///   every answer was checked against the optimality conditions; the one left meets them in
 ///   the solver's own measure, which does not check the multipliers' signs);
 /// - refused as inaccurate (`QpError::Inaccurate`: the answer missed the conditions and the
-///   proximal fallback did not produce one that meets them): 27 (37 before the fallback ended
+///   proximal fallback did not produce one that meets them): 32 (37 before the fallback ended
 ///   with the original problem solved on its last active set);
 /// - reported infeasible (or at the iteration limit) although feasible: 80 (176 before the
-///   proximal fallback of `ActiveSetSolver::solve_proximal`, 92 before its last step).
+///   proximal fallback of `ActiveSetSolver::solve_proximal`, 92 before its last step);
+/// - answered with a scaled KKT residual between 1e-9 (the issue's accuracy) and 1e-6: 40.
 ///
 /// Where both solve, the objectives are compared with Clarabel's and the disagreements
 /// printed (at cond(H) ~ 1e12 Clarabel's own answer is often the wrong one: corps' KKT
@@ -87,10 +88,12 @@ fn problem(rng: &mut ChaCha8Rng) -> QpProblem {
 #[test]
 fn ill_conditioned_degenerate_problems_ledger() {
     const KNOWN_FAILED: usize = 80;
-    const KNOWN_INACCURATE: usize = 27;
+    const KNOWN_INACCURATE: usize = 32;
     const KNOWN_WRONG: usize = 1;
+    const KNOWN_LOOSE: usize = 40;
     let mut rng = ChaCha8Rng::seed_from_u64(0x111c);
     let (mut failed, mut inaccurate, mut wrong, mut both, mut differ) = (0, 0, 0, 0, 0);
+    let mut loose = 0;
     for _ in 0..1000 {
         let p = problem(&mut rng);
         let mut s = common::cold_solver(&p);
@@ -98,12 +101,18 @@ fn ill_conditioned_degenerate_problems_ledger() {
             Err(QpError::Inaccurate) => inaccurate += 1,
             Err(_) => failed += 1,
             Ok(sol) => {
-                if common::kkt_scaled(&p, sol) > 1e-6 {
+                let kkt = common::kkt_scaled(&p, sol);
+                if kkt > 1e-6 {
                     wrong += 1;
-                } else if let Reference::Solved { objective, .. } = clarabel_solve(&p) {
-                    both += 1;
-                    if (sol.objective - objective).abs() / (1.0 + objective.abs()) > 1e-6 {
-                        differ += 1;
+                } else {
+                    if kkt > 1e-9 {
+                        loose += 1;
+                    }
+                    if let Reference::Solved { objective, .. } = clarabel_solve(&p) {
+                        both += 1;
+                        if (sol.objective - objective).abs() / (1.0 + objective.abs()) > 1e-6 {
+                            differ += 1;
+                        }
                     }
                 }
             }
@@ -111,8 +120,8 @@ fn ill_conditioned_degenerate_problems_ledger() {
     }
     println!(
         "of 1000 feasible problems: {failed} not solved, {inaccurate} refused as inaccurate, \
-         {wrong} wrong answers; of {both} both solved (corps' KKT ≤ 1e-6), objectives differ in \
-         {differ}"
+         {wrong} wrong answers, {loose} with a KKT residual over 1e-9; of {both} both solved \
+         (corps' KKT ≤ 1e-6), objectives differ in {differ}"
     );
     assert!(
         failed <= KNOWN_FAILED,
@@ -125,5 +134,9 @@ fn ill_conditioned_degenerate_problems_ledger() {
     assert!(
         wrong <= KNOWN_WRONG,
         "{wrong} wrong answers (known: {KNOWN_WRONG})"
+    );
+    assert!(
+        loose <= KNOWN_LOOSE,
+        "{loose} answers with a KKT residual over 1e-9 (known: {KNOWN_LOOSE})"
     );
 }
