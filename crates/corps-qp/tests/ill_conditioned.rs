@@ -6,68 +6,9 @@
 mod common;
 
 use common::{clarabel_solve, Reference};
-use corps_qp::{QpError, QpProblem};
-use nalgebra::{DMatrix, DVector};
-use rand::{Rng, SeedableRng};
+use corps_qp::QpError;
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-
-/// One problem of the family, with the point that satisfies all its constraints.
-fn problem(rng: &mut ChaCha8Rng) -> QpProblem {
-    let n = rng.gen_range(5..30);
-    let r = rng.gen_range(1..n);
-    let eps = [1e-3, 1e-6, 1e-9, 1e-12][rng.gen_range(0..4)];
-    let b = common::rand_matrix(rng, r, n);
-    let x0 = common::rand_vector(rng, n);
-    // Equalities: independent rows, then copies, near copies (1e-10 apart) and combinations.
-    let ne0 = rng.gen_range(0..n / 2 + 1);
-    let extra = if ne0 > 0 { rng.gen_range(0..4) } else { 0 };
-    let ni0 = rng.gen_range(1..n + 1);
-    let ni_extra = rng.gen_range(0..4);
-    let mut p = QpProblem::new(n, ne0 + extra, ni0 + ni_extra);
-    p.h = b.transpose() * &b + DMatrix::identity(n, n) * eps;
-    p.g = common::rand_vector(rng, n) * rng.gen_range(0.1..10.0);
-    let a0 = common::rand_matrix(rng, ne0, n);
-    p.a.rows_mut(0, ne0).copy_from(&a0);
-    for d in 0..extra {
-        let src = rng.gen_range(0..ne0);
-        let row = match rng.gen_range(0..3) {
-            0 => a0.row(src).clone_owned(),
-            1 => a0.row(src) + common::rand_matrix(rng, 1, n) * 1e-10,
-            _ => a0.tr_mul(&common::rand_vector(rng, ne0)).transpose(),
-        };
-        p.a.set_row(ne0 + d, &row);
-    }
-    p.b = &p.a * &x0;
-    // Inequalities through or around x0, some duplicated or nearly parallel.
-    let c0 = common::rand_matrix(rng, ni0, n);
-    p.c.rows_mut(0, ni0).copy_from(&c0);
-    for d in 0..ni_extra {
-        let src = rng.gen_range(0..ni0);
-        let row = if rng.gen_bool(0.5) {
-            c0.row(src).clone_owned()
-        } else {
-            c0.row(src) + common::rand_matrix(rng, 1, n) * 1e-10
-        };
-        p.c.set_row(ni0 + d, &row);
-    }
-    let cx0 = &p.c * &x0;
-    for i in 0..p.c.nrows() {
-        let (lo, hi) = (
-            cx0[i] - rng.gen_range(0.0..0.5),
-            cx0[i] + rng.gen_range(0.0..0.5),
-        );
-        match rng.gen_range(0..3) {
-            0 => (p.l[i], p.u[i]) = (lo, hi),
-            1 => (p.l[i], p.u[i]) = (f64::NEG_INFINITY, hi),
-            _ => (p.l[i], p.u[i]) = (lo, f64::INFINITY),
-        }
-    }
-    if rng.gen_bool(0.5) {
-        p.lx = DVector::from_fn(n, |i, _| x0[i] - rng.gen_range(0.0..1.0));
-        p.ux = DVector::from_fn(n, |i, _| x0[i] + rng.gen_range(0.0..1.0));
-    }
-    p
-}
 
 /// 1,000 problems of the family. The goal (every one solved, KKT ≤ 1e-9 scaled, the
 /// objective Clarabel's) is far off, and this test holds the measured state as a ledger, so
@@ -95,7 +36,7 @@ fn ill_conditioned_degenerate_problems_ledger() {
     let (mut failed, mut inaccurate, mut wrong, mut both, mut differ) = (0, 0, 0, 0, 0);
     let mut loose = 0;
     for _ in 0..1000 {
-        let p = problem(&mut rng);
+        let p = common::ill_conditioned_qp(&mut rng);
         let mut s = common::cold_solver(&p);
         match s.solve(&p) {
             Err(QpError::Inaccurate) => inaccurate += 1,

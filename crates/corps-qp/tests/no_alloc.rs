@@ -102,3 +102,27 @@ fn repeated_solves_do_not_allocate() {
         );
     }
 }
+
+/// The fallbacks allocate nothing either: ill-conditioned, degenerate problems (cond(H) to
+/// 1e12, near-copy rows) take the proximal iterations, the solve on their last active set and
+/// the tightening of loose answers (the 300 first problems of `tests/ill_conditioned.rs`,
+/// answered and refused alike).
+#[test]
+fn fallback_solves_do_not_allocate() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x111c);
+    let problems: Vec<QpProblem> = (0..300)
+        .map(|_| common::ill_conditioned_qp(&mut rng))
+        .collect();
+    let mut solvers: Vec<ActiveSetSolver> = problems.iter().map(common::cold_solver).collect();
+    let (mut solved, mut failed) = (0, 0);
+    let count = count_allocations(|| {
+        for (s, p) in solvers.iter_mut().zip(&problems) {
+            match s.solve(p) {
+                Ok(_) => solved += 1,
+                Err(_) => failed += 1,
+            }
+        }
+    });
+    assert!(solved > 200 && failed > 10, "{solved} solved, {failed} not");
+    assert_eq!(count, 0, "heap allocations during the fallback solves");
+}

@@ -434,3 +434,63 @@ pub fn restricted_to(p: &QpProblem, certificate: &[corps_qp::ActiveConstraint]) 
     }
     r
 }
+
+/// One feasible problem of `tests/ill_conditioned.rs`' family: H = BᵀB (rank r < n) + ε I with
+/// ε down to 1e-12, duplicated and nearly parallel rows (1e-10 apart) consistent with one
+/// point x0, redundant equalities and rank-deficient equality blocks.
+pub fn ill_conditioned_qp(rng: &mut impl Rng) -> QpProblem {
+    let n = rng.gen_range(5..30);
+    let r = rng.gen_range(1..n);
+    let eps = [1e-3, 1e-6, 1e-9, 1e-12][rng.gen_range(0..4)];
+    let b = rand_matrix(rng, r, n);
+    let x0 = rand_vector(rng, n);
+    // Equalities: independent rows, then copies, near copies (1e-10 apart) and combinations.
+    let ne0 = rng.gen_range(0..n / 2 + 1);
+    let extra = if ne0 > 0 { rng.gen_range(0..4) } else { 0 };
+    let ni0 = rng.gen_range(1..n + 1);
+    let ni_extra = rng.gen_range(0..4);
+    let mut p = QpProblem::new(n, ne0 + extra, ni0 + ni_extra);
+    p.h = b.transpose() * &b + DMatrix::identity(n, n) * eps;
+    p.g = rand_vector(rng, n) * rng.gen_range(0.1..10.0);
+    let a0 = rand_matrix(rng, ne0, n);
+    p.a.rows_mut(0, ne0).copy_from(&a0);
+    for d in 0..extra {
+        let src = rng.gen_range(0..ne0);
+        let row = match rng.gen_range(0..3) {
+            0 => a0.row(src).clone_owned(),
+            1 => a0.row(src) + rand_matrix(rng, 1, n) * 1e-10,
+            _ => a0.tr_mul(&rand_vector(rng, ne0)).transpose(),
+        };
+        p.a.set_row(ne0 + d, &row);
+    }
+    p.b = &p.a * &x0;
+    // Inequalities through or around x0, some duplicated or nearly parallel.
+    let c0 = rand_matrix(rng, ni0, n);
+    p.c.rows_mut(0, ni0).copy_from(&c0);
+    for d in 0..ni_extra {
+        let src = rng.gen_range(0..ni0);
+        let row = if rng.gen_bool(0.5) {
+            c0.row(src).clone_owned()
+        } else {
+            c0.row(src) + rand_matrix(rng, 1, n) * 1e-10
+        };
+        p.c.set_row(ni0 + d, &row);
+    }
+    let cx0 = &p.c * &x0;
+    for i in 0..p.c.nrows() {
+        let (lo, hi) = (
+            cx0[i] - rng.gen_range(0.0..0.5),
+            cx0[i] + rng.gen_range(0.0..0.5),
+        );
+        match rng.gen_range(0..3) {
+            0 => (p.l[i], p.u[i]) = (lo, hi),
+            1 => (p.l[i], p.u[i]) = (f64::NEG_INFINITY, hi),
+            _ => (p.l[i], p.u[i]) = (lo, f64::INFINITY),
+        }
+    }
+    if rng.gen_bool(0.5) {
+        p.lx = DVector::from_fn(n, |i, _| x0[i] - rng.gen_range(0.0..1.0));
+        p.ux = DVector::from_fn(n, |i, _| x0[i] + rng.gen_range(0.0..1.0));
+    }
+    p
+}
