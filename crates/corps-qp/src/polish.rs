@@ -92,17 +92,7 @@ pub(crate) fn solve_on_active_set(
         let (done, rest) = nm.split_at_mut((k + 1) * n);
         let v = &done[k * n..];
         for c in rest.chunks_exact_mut(n).take(m - k - 1) {
-            let s = c[k]
-                + v[k + 1..n]
-                    .iter()
-                    .zip(&c[k + 1..])
-                    .map(|(a, b)| a * b)
-                    .sum::<f64>();
-            let s = s * w.tau[k];
-            c[k] -= s;
-            for (ci, vi) in c[k + 1..].iter_mut().zip(&v[k + 1..n]) {
-                *ci -= s * vi;
-            }
+            reflect(v, w.tau[k], k, c);
         }
     }
     // Q = H₀ H₁ … H_{m−1} applied to the identity, from the last reflector back.
@@ -114,17 +104,7 @@ pub(crate) fn solve_on_active_set(
     for k in (0..m).rev() {
         let v = &nm[k * n..(k + 1) * n];
         for c in q.chunks_exact_mut(n) {
-            let s = c[k]
-                + v[k + 1..]
-                    .iter()
-                    .zip(&c[k + 1..])
-                    .map(|(a, b)| a * b)
-                    .sum::<f64>();
-            let s = s * w.tau[k];
-            c[k] -= s;
-            for (ci, vi) in c[k + 1..].iter_mut().zip(&v[k + 1..]) {
-                *ci -= s * vi;
-            }
+            reflect(v, w.tau[k], k, c);
         }
     }
     let r = |i: usize, j: usize| nm[j * n + i];
@@ -217,6 +197,18 @@ pub(crate) fn solve_on_active_set(
         u[i] = (u[i] - s) / r(i, i);
     }
     x[..n].iter().chain(&u[..m]).all(|v| v.is_finite())
+}
+
+/// `c ← (I − τ v vᵀ) c` for the reflector of column `k`: `v` zero above k, 1 at k (implied)
+/// and `v[k + 1..]` below.
+#[inline]
+fn reflect(v: &[f64], tau: f64, k: usize, c: &mut [f64]) {
+    let dot: f64 = v[k + 1..].iter().zip(&c[k + 1..]).map(|(a, b)| a * b).sum();
+    let s = (c[k] + dot) * tau;
+    c[k] -= s;
+    for (ci, vi) in c[k + 1..].iter_mut().zip(&v[k + 1..]) {
+        *ci -= s * vi;
+    }
 }
 
 #[cfg(test)]
