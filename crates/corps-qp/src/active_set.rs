@@ -394,6 +394,7 @@ impl ActiveSetSolver {
 
     #[inline(always)]
     fn solve_impl<const F: bool>(&mut self, p: &QpProblem) -> Result<(), QpError> {
+        self.polished = false;
         self.check_dims(p)?;
         let (h_changed, a_changed, c_changed) = match self.load(p) {
             Ok(v) => v,
@@ -423,7 +424,6 @@ impl ActiveSetSolver {
             self.final_ok = false;
         }
         // `load` left the certificate empty.
-        self.polished = false;
         let mut inaccurate = false;
         let first = match self.solve_both_ways::<F>() {
             // An answer that misses the optimality conditions (the dual method on an
@@ -631,9 +631,9 @@ impl ActiveSetSolver {
     /// The original problem's optimum on the active set the last solve ended with, by the
     /// null-space method ([`crate::polish`]): the proximal iterations find the active set in a
     /// few steps but then creep along H's small eigenvalues. Accepted when the inequalities'
-    /// multipliers have their sign (to rounding) and the answer meets the optimality conditions
-    /// to [`PROX_ACCEPT`]; the solution then holds it (its objective is left to the caller).
-    /// `sign_tol`: how negative an inequality's `u ‖n‖` may be, relative to the gradient.
+    /// multipliers have their sign to `sign_tol` (how negative `u ‖n‖` may be, relative to the
+    /// gradient) and the answer meets the optimality conditions to [`PROX_ACCEPT`]; the
+    /// solution then holds it (its objective is left to the caller).
     fn solve_on_last_active_set<const F: bool>(&mut self, sign_tol: f64) -> bool {
         let (n, ne, ni, m) = (self.n, self.ne, self.ni, self.active.len());
         if m > n {

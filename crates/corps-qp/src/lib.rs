@@ -65,9 +65,10 @@
 //!   [`QpError::Inaccurate`]: no answer rather than a wrong one. The fallback ends by solving
 //!   the original problem on the active set its iterations found (null-space method: QR of
 //!   the active normals, Cholesky of the reduced Hessian), where they creep along H's small
-//!   eigenvalues; an accepted answer whose residual is over 1e-9 is solved again that way
-//!   and the more accurate one kept (`tests/ill_conditioned.rs`: 80 + 32 of 1,000 unsolved or
-//!   refused, against 92 + 37 before).
+//!   eigenvalues; an accepted answer whose residual is over 1e-9 (and that is not already
+//!   that solve's) is solved again that way, and the new answer kept if it is more accurate
+//!   with its multipliers' signs held to 1e-9 (`tests/ill_conditioned.rs`: 80 + 32 of 1,000
+//!   unsolved or refused, against 92 + 37 before).
 //! - **Infeasibility certificate.** After `Infeasible`,
 //!   [`ActiveSetSolver::infeasibility_certificate`] lists constraints that alone admit no
 //!   point: the violated constraint with the active ones its normal combines, an empty

@@ -68,6 +68,9 @@ pub(crate) fn solve_on_active_set(
     if m > n {
         return false;
     }
+    if n == 0 {
+        return true;
+    }
     let nm = &mut w.normals[..n * m];
     for (norm, col) in w.norms.iter_mut().zip(nm.chunks_exact(n)) {
         *norm = col.iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -292,6 +295,21 @@ mod tests {
             let nu: f64 = (0..n).map(|k| normals[k * n + i] * u[k]).sum();
             assert!((hx + g[i] - nu).abs() < 1e-13);
         }
+    }
+
+    #[test]
+    fn handles_no_variable() {
+        let mut w = PolishWork::default();
+        w.resize(0);
+        assert!(solve_on_active_set(
+            &[],
+            &[],
+            0,
+            0,
+            &mut w,
+            &mut [],
+            &mut []
+        ));
     }
 
     #[test]

@@ -21,7 +21,9 @@ use rand_chacha::ChaCha8Rng;
 ///   with the original problem solved on its last active set);
 /// - reported infeasible (or at the iteration limit) although feasible: 80 (176 before the
 ///   proximal fallback of `ActiveSetSolver::solve_proximal`, 92 before its last step);
-/// - answered with a scaled KKT residual between 1e-9 (the accuracy) and 1e-6: 40.
+/// - answered with a scaled KKT residual between 1e-9 (the accuracy) and 1e-6: 40; so
+///   153 of the 1,000 are not solved to the accuracy (held as a total: an answer that
+///   replaces a failure may well land between 1e-9 and 1e-6).
 ///
 /// Where both solve, the objectives are compared with Clarabel's and the disagreements
 /// printed (at cond(H) ~ 1e12 Clarabel's own answer is often the wrong one: corps' KKT
@@ -31,7 +33,7 @@ fn ill_conditioned_degenerate_problems_ledger() {
     const KNOWN_FAILED: usize = 80;
     const KNOWN_INACCURATE: usize = 32;
     const KNOWN_WRONG: usize = 1;
-    const KNOWN_LOOSE: usize = 40;
+    const KNOWN_SHORT_OF_1E9: usize = 153;
     let mut rng = ChaCha8Rng::seed_from_u64(0x111c);
     let (mut failed, mut inaccurate, mut wrong, mut both, mut differ) = (0, 0, 0, 0, 0);
     let mut loose = 0;
@@ -76,8 +78,9 @@ fn ill_conditioned_degenerate_problems_ledger() {
         wrong <= KNOWN_WRONG,
         "{wrong} wrong answers (known: {KNOWN_WRONG})"
     );
+    let short = failed + inaccurate + wrong + loose;
     assert!(
-        loose <= KNOWN_LOOSE,
-        "{loose} answers with a KKT residual over 1e-9 (known: {KNOWN_LOOSE})"
+        short <= KNOWN_SHORT_OF_1E9,
+        "{short} problems not solved to a KKT residual of 1e-9 (known: {KNOWN_SHORT_OF_1E9})"
     );
 }
