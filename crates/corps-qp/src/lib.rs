@@ -59,7 +59,8 @@
 //!   proofs stand and whose iterates converge to the original optimum
 //!   (`tests/degenerate_vertex.rs`: 1,000 such problems, all solved).
 //! - **Checked answers.** Every answer is checked against the optimality conditions
-//!   (stationarity and primal residuals, 1e-6 relative to the magnitude of their terms); one
+//!   (stationarity, the active sides' multiplier signs and the primal residuals, 1e-6
+//!   relative to the magnitude of their terms); one
 //!   that misses them (the dual method on a Hessian with cond ~1e12 can return one) goes to
 //!   the proximal fallback, and if that produces none that meets them the solve ends
 //!   [`QpError::Inaccurate`]: no answer rather than a wrong one. The fallback ends by solving
