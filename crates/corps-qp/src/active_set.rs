@@ -470,14 +470,7 @@ impl ActiveSetSolver {
         if before <= POLISH_ABOVE || self.polished {
             return;
         }
-        let kept = &mut self.kept;
-        kept.x.copy_from(&self.sol.x);
-        kept.y_eq.copy_from(&self.sol.y_eq);
-        kept.z_in.copy_from(&self.sol.z_in);
-        kept.z_box.copy_from(&self.sol.z_box);
-        kept.objective = self.sol.objective;
-        kept.iterations = self.sol.iterations;
-        kept.active_set.clone_from(&self.sol.active_set);
+        self.kept.copy_from(&self.sol);
         let (n, m) = (self.n, self.active.len());
         self.um_kept[..m].copy_from_slice(&self.um[..m]);
         // Signs held to the same accuracy: the answer kept must not trade a residual for a
@@ -485,26 +478,25 @@ impl ActiveSetSolver {
         let polished =
             self.solve_on_last_active_set::<F>(POLISH_ABOVE) && self.kkt_residual::<F>() < before;
         if polished {
-            let x = self.sol.x.as_slice();
-            let mut objective = 0.0;
-            for j in 0..n {
-                let hx: f64 = (0..n).map(|i| self.h[j * n + i] * x[i]).sum();
-                objective += x[j] * (0.5 * hx + self.g[j]);
-            }
-            self.sol.objective = objective;
+            self.sol.objective = self.original_objective();
         } else {
-            let kept = &self.kept;
-            self.sol.x.copy_from(&kept.x);
-            self.sol.y_eq.copy_from(&kept.y_eq);
-            self.sol.z_in.copy_from(&kept.z_in);
-            self.sol.z_box.copy_from(&kept.z_box);
-            self.sol.objective = kept.objective;
-            self.sol.iterations = kept.iterations;
-            self.sol.active_set.clone_from(&kept.active_set);
+            self.sol.copy_from(&self.kept);
             self.x[..n].copy_from_slice(self.sol.x.as_slice());
             self.um[..m].copy_from_slice(&self.um_kept[..m]);
             self.residual = before;
         }
+    }
+
+    /// `½ xᵀ H x + gᵀ x` of the solution held, from the problem's own H and g (the answers of
+    /// the fallbacks, whose solves saw a shifted H or g).
+    fn original_objective(&self) -> f64 {
+        let (n, x) = (self.n, self.sol.x.as_slice());
+        let mut objective = 0.0;
+        for j in 0..n {
+            let hx: f64 = (0..n).map(|i| self.h[j * n + i] * x[i]).sum();
+            objective += x[j] * (0.5 * hx + self.g[j]);
+        }
+        objective
     }
 
     /// Factors the copy of H (`chol`, `lt`, its diagonal blocks) and forgets what was built
@@ -617,13 +609,7 @@ impl ActiveSetSolver {
                 self.certificate.clear();
                 return Err(QpError::Infeasible);
             }
-            let x = &self.sol.x;
-            let mut objective = 0.0;
-            for j in 0..n {
-                let hx: f64 = (0..n).map(|i| self.h[j * n + i] * x[i]).sum();
-                objective += x[j] * (0.5 * hx + self.g[j]);
-            }
-            self.sol.objective = objective;
+            self.sol.objective = self.original_objective();
         }
         result
     }

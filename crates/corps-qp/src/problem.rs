@@ -146,4 +146,15 @@ impl Solution {
             active_set: Vec::with_capacity(n + n_eq),
         }
     }
+
+    /// Copies `other` (same sizes) into `self`, reusing its buffers.
+    pub(crate) fn copy_from(&mut self, other: &Solution) {
+        self.x.copy_from(&other.x);
+        self.y_eq.copy_from(&other.y_eq);
+        self.z_in.copy_from(&other.z_in);
+        self.z_box.copy_from(&other.z_box);
+        self.objective = other.objective;
+        self.iterations = other.iterations;
+        self.active_set.clone_from(&other.active_set);
+    }
 }
