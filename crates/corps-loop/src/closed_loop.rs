@@ -1,5 +1,8 @@
 //! The closed loop: each control period the references are sampled, the plant's sensors read,
-//! the state estimated, the command computed, the observers fed and the plant stepped.
+//! the state estimated, the command computed, the observers fed and the plant stepped. The
+//! plant's true state, which the observers read (and the estimator, fed the exact readings),
+//! may arrive after the readings ([`Plant::complete`]), while the estimator and the
+//! controller run.
 //!
 //! ```text
 //! references(t) ─┐
@@ -111,7 +114,12 @@ where
             }
             let t = index as f64 * settings.dt;
             self.references.sample(t, &mut self.current);
-            match self.plant.sense(&mut sensed) {
+            let sensed_now = match self.plant.sense(&mut sensed) {
+                // The estimator fed the exact readings needs the true state at once.
+                Ok(()) if settings.feed == Feed::Exact => self.plant.complete(&mut sensed),
+                other => other,
+            };
+            match sensed_now {
                 Ok(()) => {}
                 Err(PlantError::Diverged { t, reason }) => {
                     return Ok(done(LoopEnd::Diverged { t, reason }))
@@ -129,6 +137,15 @@ where
                 .controller
                 .tick(t, self.estimator.state(), &self.current);
             let tick_us = start.elapsed().as_secs_f64() * 1e6;
+            if settings.feed == Feed::Measured {
+                match self.plant.complete(&mut sensed) {
+                    Ok(()) => {}
+                    Err(PlantError::Diverged { t, reason }) => {
+                        return Ok(done(LoopEnd::Diverged { t, reason }))
+                    }
+                    Err(e) => return Err(LoopError::Plant(e)),
+                }
+            }
             let tick = Tick {
                 index,
                 t,

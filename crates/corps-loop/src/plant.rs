@@ -74,10 +74,19 @@ pub struct Sensed {
 pub trait Plant: Send {
     /// A buffer of the right sizes for [`Plant::sense`].
     fn sensed(&self) -> Sensed;
-    /// Reads the sensors (and the true state, if known) of the current state into `out`.
+    /// Reads the sensors (and the true state, if known) of the current state into `out`. A
+    /// plant may leave the true state to [`Plant::complete`]: a caller that reads
+    /// [`Sensed::truth`] calls it first.
     fn sense(&mut self, out: &mut Sensed) -> Result<(), PlantError>;
+    /// Fills in what [`Plant::sense`] left for later (the true state, which only the metrics
+    /// read, while the readings went ahead to the estimator). Nothing by default.
+    fn complete(&mut self, _out: &mut Sensed) -> Result<(), PlantError> {
+        Ok(())
+    }
     /// Called between [`Plant::sense`] and [`Plant::step`], while the controller computes: a
-    /// plant may start its next step's state-only work here.
+    /// plant may start its next step's state-only work here (the simulator also decides here
+    /// whether the tick's step runs on its second thread; without this call it steps on the
+    /// caller's).
     fn prepare(&mut self) {}
     /// Applies `command` for one control period.
     fn step(&mut self, command: &Command) -> Result<(), PlantError>;
@@ -89,6 +98,9 @@ impl<P: Plant + ?Sized> Plant for Box<P> {
     }
     fn sense(&mut self, out: &mut Sensed) -> Result<(), PlantError> {
         (**self).sense(out)
+    }
+    fn complete(&mut self, out: &mut Sensed) -> Result<(), PlantError> {
+        (**self).complete(out)
     }
     fn prepare(&mut self) {
         (**self).prepare()

@@ -24,6 +24,8 @@ struct Mass {
     t: f64,
     steps: usize,
     knows_truth: bool,
+    /// Gives the true state at `complete` instead of at `sense`.
+    late_truth: bool,
     limit: f64,
 }
 
@@ -35,6 +37,7 @@ impl Mass {
             t: 0.0,
             steps: 0,
             knows_truth: true,
+            late_truth: false,
             limit: f64::INFINITY,
         }
     }
@@ -44,6 +47,16 @@ impl Mass {
             joint_velocities: DVector::zeros(1),
             joint_torques: DVector::zeros(1),
             ..Readings::default()
+        }
+    }
+}
+
+impl Mass {
+    fn fill_truth(&self, out: &mut Sensed) {
+        if let Some(truth) = &mut out.truth {
+            truth.q[0] = self.x;
+            truth.readings.joint_positions[0] = self.x;
+            truth.readings.joint_velocities[0] = self.v;
         }
     }
 }
@@ -70,10 +83,14 @@ impl Plant for Mass {
         // The encoder reads 1 mm high; the truth does not.
         out.readings.joint_positions[0] = self.x + 1e-3;
         out.readings.joint_velocities[0] = self.v;
-        if let Some(truth) = &mut out.truth {
-            truth.q[0] = self.x;
-            truth.readings.joint_positions[0] = self.x;
-            truth.readings.joint_velocities[0] = self.v;
+        if !self.late_truth {
+            self.fill_truth(out);
+        }
+        Ok(())
+    }
+    fn complete(&mut self, out: &mut Sensed) -> Result<(), PlantError> {
+        if self.late_truth {
+            self.fill_truth(out);
         }
         Ok(())
     }
@@ -252,6 +269,22 @@ fn the_loop_tracks_the_reference_through_the_sensors_and_steps_once_per_tick() {
     // The controller sees the biased encoder: it settles 1 mm below the reference.
     assert!((run.plant.x - 0.499).abs() < 1e-4, "x = {}", run.plant.x);
     assert!((watch.error_sum / 300.0 - 1e-3).abs() < 1e-12);
+}
+
+#[test]
+fn a_true_state_given_late_reaches_the_observers_and_the_exact_feed() {
+    let mut mass = Mass::new();
+    mass.late_truth = true;
+    let mut run = closed_loop(mass, f64::INFINITY);
+    let mut watch = Watch::new(usize::MAX);
+    run.run(&settings(300, Feed::Measured), &mut [&mut watch], None)
+        .unwrap();
+    assert!((watch.error_sum / 300.0 - 1e-3).abs() < 1e-12);
+    let mut mass = Mass::new();
+    mass.late_truth = true;
+    let mut run = closed_loop(mass, f64::INFINITY);
+    run.run(&settings(300, Feed::Exact), &mut [], None).unwrap();
+    assert!((run.plant.x - 0.5).abs() < 1e-4, "x = {}", run.plant.x);
 }
 
 #[test]

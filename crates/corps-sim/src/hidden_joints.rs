@@ -322,6 +322,11 @@ impl<P: Plant> Plant for WithHiddenJoints<P> {
         out.time = self.sensed.time;
         self.map
             .narrow_readings(&self.sensed.readings, &mut out.readings);
+        Ok(())
+    }
+
+    fn complete(&mut self, out: &mut Sensed) -> std::result::Result<(), PlantError> {
+        self.inner.complete(&mut self.sensed)?;
         if let (Some(plant), Some(rigid)) = (&self.sensed.truth, &mut out.truth) {
             self.map.narrow_truth(plant, rigid);
         }

@@ -7,7 +7,7 @@
 //! window is cut short as soon as it is a quarter slower than the serial window before it),
 //! keeps the mode of the fastest window for a while, and probes again, less often while the
 //! same mode keeps winning. An overlapped
-//! stretch ends early when the run's thread keeps finding the preparation unfinished (the
+//! stretch ends early when the run's thread keeps having to park for the worker's answer (the
 //! worker lost its core to another process). Both modes step the simulator bit-identically,
 //! so the schedule changes the run's speed, never its result.
 
@@ -37,7 +37,7 @@ const WINDOWS_PER_MODE: usize = 3;
 const FIRST_STRETCH: u32 = 3_000;
 const MAX_STRETCH: u32 = 48_000;
 /// An overlapped stretch ends when more than this many ticks of one window had to wait
-/// parked for the preparation.
+/// parked for the worker.
 const LATE_PER_WINDOW: u32 = WINDOW / 10;
 
 /// The adaptive schedule's state.
@@ -46,7 +46,7 @@ enum Phase {
     /// Window `window` of a probe (even: serial, odd: overlapped).
     Probe { window: usize, ticks: u32 },
     /// The probe's winner for `left` more ticks; `late` ticks of the current window
-    /// (`tick` ticks in) waited parked for the preparation.
+    /// (`tick` ticks in) waited parked for the worker.
     Stretch {
         overlap: bool,
         left: u32,
@@ -104,14 +104,18 @@ impl OverlapSchedule {
     }
 
     /// Records the wall time of the tick just run (step to step) and whether it waited
-    /// parked for the preparation.
+    /// parked for the worker.
     pub(crate) fn record_tick(&mut self, elapsed: Duration, parked: bool) {
         if self.mode != Overlap::Adaptive {
             return;
         }
         self.phase = match self.phase {
             Phase::Probe { window, ticks } => {
-                self.window_time += elapsed;
+                // A window's first tick pays for the switch (the worker, parked through a
+                // serial window, wakes up); both modes' windows count their other ticks.
+                if ticks > 0 {
+                    self.window_time += elapsed;
+                }
                 // An overlapped window already a quarter slower than the serial window before
                 // it has lost: stop paying for it (on a loaded machine its ticks are slow).
                 let serial_window = self.windows[SERIAL][window / 2];
@@ -261,6 +265,29 @@ mod tests {
             s.record_tick(Duration::from_micros(80), true);
         }
         assert!(matches!(s.phase, Phase::Probe { window: 0, .. }));
+    }
+
+    #[test]
+    fn the_wake_up_after_a_serial_window_does_not_decide_the_probe() {
+        // The first overlapped tick after a serial one waits for the worker to wake (on a
+        // virtual machine, up to milliseconds); the overlap still wins the ticks after it.
+        let mut s = OverlapSchedule::new(Overlap::Adaptive);
+        let mut previous = false;
+        for _ in 0..20_000 {
+            let o = s.overlap_this_tick();
+            let micros = match (o, previous) {
+                (true, false) => 5_000,
+                (true, true) => 80,
+                (false, _) => 100,
+            };
+            s.record_tick(Duration::from_micros(micros), false);
+            previous = o;
+        }
+        let (o, n) = s.counts();
+        assert!(
+            o as f64 / (o + n) as f64 > 0.9,
+            "{o} overlapped, {n} serial"
+        );
     }
 
     #[test]

@@ -117,6 +117,7 @@ fn hidden_joints_never_reach_the_readings() {
         plant.step(&hold).unwrap();
     }
     plant.sense(&mut sensed).unwrap();
+    plant.complete(&mut sensed).unwrap();
     let truth = sensed.truth.as_ref().unwrap();
     assert_eq!(truth.q.len(), rigid.nq);
     assert_eq!(truth.joint_placements.len(), rigid.joints.len());

@@ -56,6 +56,13 @@ impl Plant for RunPlant {
             RunPlant::External(p) => p.sense(out),
         }
     }
+    fn complete(&mut self, out: &mut Sensed) -> Result<(), PlantError> {
+        match self {
+            RunPlant::Simulated(p) => p.complete(out),
+            RunPlant::Hidden(p) => p.complete(out),
+            RunPlant::External(p) => p.complete(out),
+        }
+    }
     fn prepare(&mut self) {
         match self {
             RunPlant::Simulated(p) => p.prepare(),
