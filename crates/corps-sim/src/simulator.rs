@@ -662,34 +662,16 @@ impl Simulator {
     }
 }
 
-/// Keeps a copy of `cmd` in `slot` without allocating when the shape is unchanged; returns
-/// whether the stored command was already equal to `cmd`.
+/// Keeps a copy of `cmd` in `slot` (without allocating when its kind and sizes are
+/// unchanged); returns whether the stored command was already equal to `cmd`.
 fn store_command(slot: &mut Option<Command>, cmd: &Command) -> bool {
-    match (slot.as_mut(), cmd) {
-        (Some(Command::Torque(a)), Command::Torque(b))
-        | (Some(Command::Velocity(a)), Command::Velocity(b))
-            if a.len() == b.len() =>
-        {
-            let same = a == b;
-            a.copy_from(b);
+    match slot {
+        Some(last) => {
+            let same = last == cmd;
+            last.copy_from(cmd);
             same
         }
-        (
-            Some(Command::Position {
-                q_ref: qa,
-                v_ref: va,
-            }),
-            Command::Position {
-                q_ref: qb,
-                v_ref: vb,
-            },
-        ) if qa.len() == qb.len() && va.len() == vb.len() => {
-            let same = qa == qb && va == vb;
-            qa.copy_from(qb);
-            va.copy_from(vb);
-            same
-        }
-        _ => {
+        None => {
             *slot = Some(cmd.clone());
             false
         }

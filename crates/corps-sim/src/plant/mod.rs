@@ -195,10 +195,7 @@ impl SimulatedRobot {
         if self.worker.is_none() {
             return Err(worker_failed());
         }
-        copy_command(
-            &mut *self.shared.command.lock().map_err(|_| worker_failed())?,
-            command,
-        );
+        (self.shared.command.lock().map_err(|_| worker_failed())?).copy_from(command);
         self.steps += 1;
         self.request(|s| &s.step_requested, self.steps);
         let steps = self.steps;
@@ -277,33 +274,6 @@ fn read_truth(robot: &Robot, truth: &mut Truth) {
     (truth.com, truth.com_velocity) = com_at_placements(model, data);
     truth.joint_placements.copy_from_slice(&data.o_m_i);
     touching_points(sim, &mut truth.contacts);
-}
-
-/// `src` into `dst`, in place when both are the same kind of command of the same sizes.
-fn copy_command(dst: &mut Command, src: &Command) {
-    let copied = match (&mut *dst, src) {
-        (Command::Torque(d), Command::Torque(s)) | (Command::Velocity(d), Command::Velocity(s))
-            if d.len() == s.len() =>
-        {
-            d.copy_from(s);
-            true
-        }
-        (
-            Command::Position { q_ref, v_ref },
-            Command::Position {
-                q_ref: q_src,
-                v_ref: v_src,
-            },
-        ) if q_ref.len() == q_src.len() && v_ref.len() == v_src.len() => {
-            q_ref.copy_from(q_src);
-            v_ref.copy_from(v_src);
-            true
-        }
-        _ => false,
-    };
-    if !copied {
-        *dst = src.clone();
-    }
 }
 
 /// Whether two readings have the same sizes, so that swapping them hands each side a buffer
